@@ -1,0 +1,26 @@
+// Typed errors thrown at module boundaries; only the command line turns them into exit codes.
+#pragma once
+#include <stdexcept>
+#include <string>
+
+namespace dhpd {
+
+/// A problem with the user's input (scene file, command line): exit code 2.
+class InputError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// The run became unstable (NaN, energy blow-up): exit code 3, last good output kept.
+class InstabilityError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// An internal invariant failed (a bug, not the user's fault): exit code 1.
+class EngineError : public std::logic_error {
+ public:
+  using std::logic_error::logic_error;
+};
+
+}  // namespace dhpd

@@ -1,0 +1,35 @@
+// Per-step loops over bonds: internal force, bond breaking, damage, strain energy, stable step.
+// Formulas: dhpd.md §3 (force), §5 (stable step), §7 (damage); IJNME 2016 eqs. 27, 44.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "engine/bonds.hpp"
+#include "engine/interactions.hpp"
+#include "engine/particles.hpp"
+
+namespace dhpd {
+
+/// Overwrites `force_density` with the internal force per unit volume of every particle:
+/// f_i = Σ_k K_k β_k V_k s_k n_k, gathered row by row (no atomics, thread-count independent).
+void internal_force_density(const InteractionList& il, ParticleStore& p);
+
+/// Breaks every intact bond with s ≥ s0 of its owner (owners flagged no_fail are skipped).
+/// Zeroes both views of a broken bond. Returns the number of bonds broken by this call.
+std::int64_t break_bonds(BondList& bonds, InteractionList& il, const ParticleStore& p,
+                         const std::vector<double>& critical_stretch);
+
+/// φ_i = 1 − Σ μ β V_j / Σ β V_j over own bonds (dhpd.md §7); written to p.damage.
+void compute_damage(const BondList& bonds, ParticleStore& p);
+
+/// Strain-energy density of each particle from its own bonds: W_i = Σ_j ½ C_i β s² |ξ| V_j.
+void strain_energy_density(const BondList& bonds, const ParticleStore& p,
+                           const std::vector<double>& micromodulus, std::vector<double>& out);
+
+/// Largest stable step per dhpd.md §5: min_i sqrt(2 ρ_i / Σ_k K_k β_k V_k / |ξ_k|) (no safety).
+double critical_time_step(const InteractionList& il, const ParticleStore& p);
+
+/// Deterministic sum (fixed order, independent of threads).
+double ordered_sum(const std::vector<double>& values);
+
+}  // namespace dhpd

@@ -1,0 +1,85 @@
+// Initial and boundary conditions. A traction t on a layer of depth d becomes b = t/d, so the total
+// force equals t × (loaded face area) on a lattice (the usual PD fictitious-layer treatment).
+#include "engine/loads.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "engine/errors.hpp"
+
+namespace dhpd {
+
+std::vector<std::int32_t> select(const ParticleStore& p, const geometry::Box& region) {
+  std::vector<std::int32_t> out;
+  const auto& X = p.reference_position;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (region.contains({X[0][i], X[1][i], X[2][i]}, p.dim()))
+      out.push_back(static_cast<std::int32_t>(i));
+  return out;
+}
+
+void apply_initial_condition(const InitialCondition& ic, ParticleStore& p) {
+  const auto& X = p.reference_position;
+  for (const auto i : select(p, ic.region)) {
+    double envelope = 1.0;
+    if (ic.gaussian_width) {
+      double r2 = 0.0;
+      for (int a = 0; a < p.dim(); ++a) r2 += std::pow(X[a][i] - ic.gaussian_center[a], 2);
+      envelope = std::exp(-r2 / (*ic.gaussian_width * *ic.gaussian_width));
+    }
+    for (int a = 0; a < p.dim(); ++a) {
+      if (ic.velocity) p.velocity[a][i] += envelope * (*ic.velocity)[a];
+      if (ic.displacement) p.displacement[a][i] += envelope * (*ic.displacement)[a];
+      if (ic.strain) p.displacement[a][i] += (*ic.strain)[a] * (X[a][i] - ic.origin[a]);
+    }
+  }
+  for (int a = 0; a < 3; ++a)
+    for (std::size_t i = 0; i < p.size(); ++i) p.position[a][i] = X[a][i] + p.displacement[a][i];
+}
+
+namespace {
+double layer_depth(const ParticleStore& p, const std::vector<std::int32_t>& layer, int axis) {
+  double lo = std::numeric_limits<double>::max(), hi = std::numeric_limits<double>::lowest();
+  for (const auto i : layer) {
+    lo = std::min(lo, p.reference_position[axis][i] - 0.5 * p.spacing[i]);
+    hi = std::max(hi, p.reference_position[axis][i] + 0.5 * p.spacing[i]);
+  }
+  return hi - lo;
+}
+}  // namespace
+
+ResolvedLoads resolve_loads(const std::vector<BoundaryCondition>& bcs, const ParticleStore& p) {
+  ResolvedLoads r;
+  for (std::size_t c = 0; c < bcs.size(); ++c) {
+    const auto& bc = bcs[c];
+    const auto chosen = select(p, bc.region);
+    if (chosen.empty())
+      throw InputError("boundary_conditions." + std::to_string(c) +
+                       ".region: selects no particle (the region lies outside the body)");
+    if (bc.kind == BoundaryCondition::Kind::Traction) {
+      const double depth = layer_depth(p, chosen, bc.normal_axis);
+      for (const auto i : chosen) {
+        r.loaded.push_back(i);
+        r.body_force.push_back(
+            {bc.traction[0] / depth, bc.traction[1] / depth, bc.traction[2] / depth});
+      }
+      continue;
+    }
+    for (const auto i : chosen) {
+      std::array<std::uint8_t, 3> m{0, 0, 0};
+      Vec3 v{0, 0, 0};
+      for (int a = 0; a < std::min(p.dim(), 3); ++a) {
+        const bool fixed = bc.kind == BoundaryCondition::Kind::Fixed;
+        if (fixed || bc.velocity[a]) m[a] = 1, v[a] = fixed ? 0.0 : *bc.velocity[a];
+      }
+      r.prescribed.push_back(i);
+      r.mask.push_back(m);
+      r.prescribed_velocity.push_back(v);
+    }
+  }
+  return r;
+}
+
+}  // namespace dhpd

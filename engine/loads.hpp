@@ -1,0 +1,52 @@
+// Initial conditions, prescribed motion and boundary tractions, resolved to particle lists.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "engine/particles.hpp"
+#include "geometry/shapes.hpp"
+
+namespace dhpd {
+
+using geometry::Vec3;
+
+struct InitialCondition {
+  geometry::Box region;
+  std::optional<Vec3> velocity;
+  std::optional<Vec3> displacement;
+  std::optional<Vec3> strain;  ///< u_a += strain_a · (X_a − origin_a): a uniform stretch
+  Vec3 origin{0, 0, 0};
+  /// Optional envelope exp(−|X − center|² / width²) multiplying velocity and displacement.
+  std::optional<double> gaussian_width;
+  Vec3 gaussian_center{0, 0, 0};
+};
+
+struct BoundaryCondition {
+  enum class Kind { Velocity, Fixed, Traction };
+  Kind kind = Kind::Fixed;
+  geometry::Box region;
+  std::array<std::optional<double>, 3> velocity;  ///< prescribed components (Velocity)
+  Vec3 traction{0, 0, 0};  ///< Pa, spread as a body force over the layer (Traction)
+  int normal_axis = 0;     ///< axis normal to the loaded face (Traction)
+};
+
+/// Boundary conditions bound to particle indices for one particle numbering.
+struct ResolvedLoads {
+  std::vector<std::int32_t> prescribed;        ///< particles with prescribed velocity
+  std::vector<std::array<std::uint8_t, 3>> mask;  ///< which components are prescribed
+  std::vector<Vec3> prescribed_velocity;
+  std::vector<std::int32_t> loaded;             ///< particles carrying a body force
+  std::vector<Vec3> body_force;                 ///< N/m³
+};
+
+/// Particles of `p` inside `region` (reference positions).
+std::vector<std::int32_t> select(const ParticleStore& p, const geometry::Box& region);
+
+void apply_initial_condition(const InitialCondition& ic, ParticleStore& p);
+
+/// Resolves every boundary condition; throws InputError naming the condition that selects nothing.
+ResolvedLoads resolve_loads(const std::vector<BoundaryCondition>& bcs, const ParticleStore& p);
+
+}  // namespace dhpd

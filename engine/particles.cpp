@@ -1,0 +1,41 @@
+// Field registry of the particle store.
+#include "engine/particles.hpp"
+
+namespace dhpd {
+
+std::vector<FieldInfo> ParticleStore::fields() {
+  using G = FieldGroup;
+  using S = SplitRule;
+  return {
+      {"reference_position", G::Geometry, S::FromPattern, &reference_position},
+      {"volume", G::Geometry, S::DivideByChildren, &volume},
+      {"spacing", G::Geometry, S::FromPattern, &spacing},
+      {"horizon", G::Geometry, S::FromPattern, &horizon},
+      {"density", G::Geometry, S::Copy, &density},
+      {"material", G::Geometry, S::Copy, &material},
+      {"id", G::Geometry, S::FromPattern, &id},
+      {"no_fail", G::Geometry, S::Copy, &no_fail},
+      {"position", G::State, S::FromPattern, &position},
+      {"displacement", G::State, S::Copy, &displacement},
+      {"velocity", G::State, S::Copy, &velocity},
+      {"force_density", G::State, S::Reset, &force_density},
+      {"damage", G::State, S::Copy, &damage},
+  };
+}
+
+void ParticleStore::resize(std::size_t n) {
+  for (auto& f : fields()) {
+    std::visit(
+        [n](auto* arr) {
+          using T = std::remove_pointer_t<decltype(arr)>;
+          if constexpr (std::is_same_v<T, VectorArray>) {
+            for (auto& c : *arr) c.resize(n, 0.0);
+          } else {
+            arr->resize(n, 0);
+          }
+        },
+        f.data);
+  }
+}
+
+}  // namespace dhpd

@@ -1,0 +1,80 @@
+// Small builders shared by the engine tests (test-only code lives here, not in the engine).
+#pragma once
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "engine/bonds.hpp"
+#include "engine/interactions.hpp"
+#include "engine/kernels.hpp"
+#include "engine/material_law.hpp"
+#include "engine/particles.hpp"
+#include "engine/simulation.hpp"
+#include "geometry/lattice.hpp"
+
+namespace dhpd::test {
+
+/// Bonds, dual lists and interaction rows of a store, built from scratch.
+struct Assembly {
+  BondList bonds;
+  DualList dual;
+  InteractionList rows;
+  std::vector<double> C;
+};
+
+inline Assembly assemble(const ParticleStore& p, ForceModel model, PartialVolume pv,
+                         const Material& m, const Section& s) {
+  Assembly a;
+  a.bonds = build_bonds(p, pv, {});
+  a.dual = build_dual(a.bonds);
+  a.C.resize(p.size());
+  for (std::size_t i = 0; i < p.size(); ++i) a.C[i] = micromodulus(m, s, p.horizon[i]);
+  a.rows = build_interactions(model, a.bonds, a.dual, p, a.C);
+  return a;
+}
+
+/// A random cloud in the unit cube (first `dim` axes) with spacings spread over [h, ratio·h].
+inline ParticleStore random_cloud(int dim, std::size_t n, double h, double ratio, double factor,
+                                  unsigned seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  ParticleStore p(dim);
+  p.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    for (int a = 0; a < dim; ++a) p.reference_position[a][i] = unit(rng);
+    p.spacing[i] = h * std::pow(ratio, unit(rng));
+    p.horizon[i] = factor * p.spacing[i];
+    p.volume[i] = std::pow(p.spacing[i], dim);
+    p.density[i] = 1000.0 * (1.0 + unit(rng));
+    for (int a = 0; a < dim; ++a) {
+      p.displacement[a][i] = 1e-3 * (unit(rng) - 0.5);
+      p.position[a][i] = p.reference_position[a][i] + p.displacement[a][i];
+    }
+  }
+  return p;
+}
+
+/// A store filled from a lattice of one part (spacing dx over [0, L] per axis).
+inline ParticleStore lattice_store(int dim, int cells, double dx, double factor, const Section& s) {
+  geometry::Box box;
+  for (int a = 0; a < dim; ++a) box.max[a] = cells * dx;
+  const auto pts = geometry::fill_lattice({{box, dx, 0}}, dim);
+  ParticleStore p(dim);
+  p.resize(pts.size());
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    for (int a = 0; a < 3; ++a) p.reference_position[a][i] = p.position[a][i] = pts.position[i][a];
+    p.spacing[i] = dx;
+    p.horizon[i] = factor * dx;
+    p.volume[i] = s.volume_of_cell(pts.cell_measure[i]);
+    p.density[i] = 1000.0;
+    p.id[i] = static_cast<std::int32_t>(i);
+  }
+  return p;
+}
+
+inline void set_displacement(ParticleStore& p, int a, std::size_t i, double u) {
+  p.displacement[a][i] = u;
+  p.position[a][i] = p.reference_position[a][i] + u;
+}
+
+}  // namespace dhpd::test

@@ -1,0 +1,62 @@
+// Text outputs of a run: history.csv, summary.json and the terminal progress line.
+#pragma once
+#include <cstdint>
+#include <fstream>
+#include <string>
+#include <vector>
+
+namespace dhpd::io {
+
+struct HistoryRow {
+  std::int64_t step = 0;
+  double time = 0, dt = 0;
+  std::int64_t particles = 0, bonds = 0, broken_bonds = 0;
+  double kinetic_energy = 0, strain_energy = 0, external_work = 0;
+  double momentum[3] = {0, 0, 0};
+};
+
+/// history.csv with a fixed header; every row is flushed so a crash keeps what was written.
+class HistoryWriter {
+ public:
+  explicit HistoryWriter(const std::string& path);
+  void write(const HistoryRow& row);
+
+ private:
+  std::ofstream out_;
+};
+
+struct PhaseSeconds {
+  std::string name;
+  double seconds = 0;
+};
+
+struct Summary {
+  std::string scene_name, scene_file, status = "completed", message;
+  double wall_seconds = 0;
+  std::int64_t steps = 0, particles_start = 0, particles_end = 0, bonds = 0, broken_bonds = 0;
+  double end_time = 0, dt = 0, critical_dt = 0;
+  double bond_updates_per_second = 0, particle_steps_per_second = 0;
+  int threads = 1;
+  std::vector<std::string> active_effects;
+  std::vector<PhaseSeconds> phases;
+};
+
+/// Writes summary.json (atomically: temporary file, then rename).
+void write_summary(const std::string& path, const Summary& s);
+
+/// One-line progress on a terminal: step, time, ETA, broken bonds. Silent when stderr is not a
+/// terminal or the CI environment variable is set.
+class Progress {
+ public:
+  Progress(std::int64_t total_steps, bool enabled);
+  void update(std::int64_t step, double time, std::int64_t broken_bonds, double elapsed_seconds);
+  void finish();
+  static bool wanted();  ///< stderr is a terminal and CI is unset
+
+ private:
+  std::int64_t total_;
+  bool enabled_;
+  double last_print_ = -1.0;
+};
+
+}  // namespace dhpd::io

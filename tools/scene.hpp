@@ -1,0 +1,120 @@
+// A scene file parsed into plain structs (no YAML types here), with the source location of every
+// item so later checks can still name file, line and key path.
+#pragma once
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "engine/loads.hpp"
+#include "engine/material_law.hpp"
+#include "engine/settings.hpp"
+#include "engine/simulation.hpp"
+#include "geometry/crack.hpp"
+#include "geometry/shapes.hpp"
+
+namespace dhpd::scene {
+
+/// Where a value came from: file, 1-based line (0 for command-line overrides), key path.
+struct Location {
+  std::string file;
+  int line = 0;
+  std::string path;  ///< e.g. "body.1.spacing"
+};
+
+/// Formats "file:line: key.path: message (allowed: ...)" and throws InputError.
+[[noreturn]] void fail(const Location& where, std::string_view message,
+                       std::string_view allowed = {});
+
+struct NamedMaterial {
+  std::string name;
+  Material law;
+  Location where;
+};
+
+struct BodyPart {
+  geometry::Box box;
+  double spacing = 0.0;
+  std::string material;
+  Location where;
+};
+
+struct Region {
+  geometry::Box box;
+  Location where;
+};
+
+struct LocatedCrack {
+  geometry::Crack crack;
+  Location where;
+};
+
+struct LocatedInitialCondition {
+  InitialCondition ic;
+  Location where;
+};
+
+struct LocatedBoundaryCondition {
+  BoundaryCondition bc;
+  Location where;
+};
+
+struct TimeSpec {
+  std::optional<double> end;
+  std::optional<std::int64_t> steps;
+  double safety = 0.8;
+  std::optional<double> dt;
+  Location where;  ///< of the `time` map (dt checks refer to time.dt)
+};
+
+struct OutputSpec {
+  std::string directory = "out";
+  std::optional<std::int64_t> every;   ///< write a frame every N steps, or
+  std::optional<std::int64_t> frames;  ///< this many frames spread over the run (default 20)
+  std::vector<std::string> fields;     ///< extra point fields beyond the always-written ones
+  std::int64_t history_every = 10;
+};
+
+/// The point fields every frame carries, and the extra ones `output.fields` may ask for.
+const std::vector<std::string>& default_fields();
+const std::vector<std::string>& optional_fields();
+
+struct Scene {
+  std::string file;
+  std::string name;
+  int dimension = 2;
+  PlaneMode plane = PlaneMode::Stress;
+  double thickness = 1.0;  ///< 2D
+  double area = 1.0;       ///< 1D
+  std::vector<NamedMaterial> materials;
+  std::vector<BodyPart> body;
+  double horizon_factor = 3.015;
+  ForceModel model = ForceModel::DualHorizon;
+  PartialVolume partial_volume = PartialVolume::None;
+  std::vector<LocatedCrack> cracks;
+  std::vector<Region> no_fail;
+  std::vector<LocatedInitialCondition> initial_conditions;
+  std::vector<LocatedBoundaryCondition> boundary_conditions;
+  Effects effects;
+  TimeSpec time;
+  OutputSpec output;
+};
+
+/// A `--set key.path=value` override; value is parsed as YAML (so `false`, `5e-4`, `[0, 1]` work).
+struct Override {
+  std::string path;
+  std::string value;
+};
+
+/// Reads, overrides and validates a scene; throws InputError with file:line: key.path: message.
+Scene load_scene(const std::string& file, const std::vector<Override>& overrides = {});
+/// Same from text (for tests); `file` only names the source in messages.
+Scene parse_scene(const std::string& text, const std::string& file,
+                  const std::vector<Override>& overrides = {});
+
+/// The scene with every default filled in, as YAML text (the start of scene.resolved.yaml).
+std::string resolved_yaml(const Scene& scene);
+
+}  // namespace dhpd::scene
