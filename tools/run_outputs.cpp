@@ -1,0 +1,123 @@
+// history.csv, summary.json and the terminal progress line.
+#include "tools/run_outputs.hpp"
+
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+#include <system_error>
+
+namespace dhpd::io {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr const char* kHistoryHeader =
+    "step,time,dt,particles,bonds,broken_bonds,kinetic_energy,strain_energy,external_work,"
+    "momentum_x,momentum_y,momentum_z";
+
+/// Writes `text` to `path` via a temporary file in the same directory and a rename.
+void write_text_atomically(const std::string& path, const std::string& text) {
+  const fs::path final_path(path);
+  const fs::path tmp = fs::path(final_path).concat(".tmp");
+  std::error_code ec;
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    out << text;
+    out.close();
+    if (!out) {
+      fs::remove(tmp, ec);
+      throw std::runtime_error(fmt::format("cannot write '{}'", tmp.string()));
+    }
+  }
+  fs::rename(tmp, final_path, ec);
+  if (ec) {
+    fs::remove(tmp, ec);
+    throw std::runtime_error(
+        fmt::format("cannot rename '{}' to '{}': {}", tmp.string(), path, ec.message()));
+  }
+}
+
+}  // namespace
+
+HistoryWriter::HistoryWriter(const std::string& path) : out_(path, std::ios::trunc) {
+  if (!out_) throw std::runtime_error(fmt::format("cannot open history file '{}'", path));
+  out_ << kHistoryHeader << '\n';
+  out_.flush();
+  if (!out_) throw std::runtime_error(fmt::format("cannot write history file '{}'", path));
+}
+
+void HistoryWriter::write(const HistoryRow& row) {
+  out_ << fmt::format(
+      "{},{:.17g},{:.17g},{},{},{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g}\n", row.step,
+      row.time, row.dt, row.particles, row.bonds, row.broken_bonds, row.kinetic_energy,
+      row.strain_energy, row.external_work, row.momentum[0], row.momentum[1], row.momentum[2]);
+  out_.flush();
+  if (!out_) throw std::runtime_error("cannot write history row");
+}
+
+void write_summary(const std::string& path, const Summary& s) {
+  nlohmann::ordered_json j;
+  j["scene"] = s.scene_name;
+  j["scene_file"] = s.scene_file;
+  j["status"] = s.status;
+  j["message"] = s.message;
+  j["wall_seconds"] = s.wall_seconds;
+  j["steps"] = s.steps;
+  j["end_time"] = s.end_time;
+  j["dt"] = s.dt;
+  j["critical_dt"] = s.critical_dt;
+  j["particles_start"] = s.particles_start;
+  j["particles_end"] = s.particles_end;
+  j["bonds"] = s.bonds;
+  j["broken_bonds"] = s.broken_bonds;
+  j["bond_updates_per_second"] = s.bond_updates_per_second;
+  j["particle_steps_per_second"] = s.particle_steps_per_second;
+  j["threads"] = s.threads;
+  j["active_effects"] = s.active_effects;
+  nlohmann::ordered_json phases = nlohmann::ordered_json::object();
+  for (const PhaseSeconds& p : s.phases) phases[p.name] = p.seconds;
+  j["seconds_per_phase"] = phases;
+  write_text_atomically(path, j.dump(2) + "\n");
+}
+
+Progress::Progress(std::int64_t total_steps, bool enabled)
+    : total_(total_steps), enabled_(enabled) {}
+
+void Progress::update(std::int64_t step, double time, std::int64_t broken_bonds,
+                      double elapsed_seconds) {
+  if (!enabled_) return;
+  const bool last = step >= total_;
+  if (last_print_ >= 0.0 && elapsed_seconds - last_print_ < 0.25 && !last) return;
+  last_print_ = elapsed_seconds;
+  std::string eta = "--";
+  if (step > 0 && total_ > step) {
+    const double remaining =
+        elapsed_seconds / static_cast<double>(step) * static_cast<double>(total_ - step);
+    eta = fmt::format("{:.0f}", remaining);
+  } else if (last) {
+    eta = "0";
+  }
+  // "\x1b[K" clears whatever a previous, longer line left behind.
+  fmt::print(stderr, "\rstep {}/{}  t={:.3e} s  ETA {} s  broken {}\x1b[K", step, total_, time, eta,
+             broken_bonds);
+  std::fflush(stderr);
+}
+
+void Progress::finish() {
+  if (enabled_ && last_print_ >= 0.0) {
+    fmt::print(stderr, "\n");
+    std::fflush(stderr);
+  }
+  last_print_ = -1.0;
+}
+
+bool Progress::wanted() {
+  return isatty(STDERR_FILENO) != 0 && std::getenv("CI") == nullptr;
+}
+
+}  // namespace dhpd::io
