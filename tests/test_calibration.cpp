@@ -80,7 +80,9 @@ TEST_P(Calibration, InteriorEnergyMatchesContinuumTimesQuadrature) {
               c.pv == PartialVolume::None ? "none" : "linear", ratio,
               w[centre] / continuum_energy(c, E, eps));
   EXPECT_NEAR(w[centre] / expected, 1.0, 1e-10);
-  if (c.expected_ratio > 0) EXPECT_NEAR(ratio, c.expected_ratio, 0.005);
+  if (c.expected_ratio > 0) {
+    EXPECT_NEAR(ratio, c.expected_ratio, 0.005);
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(

@@ -51,7 +51,9 @@ TEST_P(MomentumTest, DualHorizonBalancesAndClassicalVariableDoesNot) {
   EXPECT_LT(dh.linear, 1e-12);
   EXPECT_LT(dh.angular, 1e-12);
   EXPECT_GT(cv.linear, 1e6 * std::max(dh.linear, 1e-18));
-  if (dim > 1) EXPECT_GT(cv.angular, 1e6 * std::max(dh.angular, 1e-18));
+  if (dim > 1) {
+    EXPECT_GT(cv.angular, 1e6 * std::max(dh.angular, 1e-18));
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Dimensions, MomentumTest, ::testing::Values(1, 2, 3));

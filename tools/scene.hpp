@@ -108,6 +108,9 @@ struct Override {
   std::string value;
 };
 
+/// Splits a command-line `key.path=value` at the first '='; throws InputError when there is none.
+Override parse_override(std::string_view text);
+
 /// Reads, overrides and validates a scene; throws InputError with file:line: key.path: message.
 Scene load_scene(const std::string& file, const std::vector<Override>& overrides = {});
 /// Same from text (for tests); `file` only names the source in messages.

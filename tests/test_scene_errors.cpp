@@ -1,0 +1,225 @@
+// Scene reader: a table of refused scenes, each with the exact file:line: key.path of its message.
+#include <gtest/gtest.h>
+
+#include <sstream>
+
+#include "engine/errors.hpp"
+#include "tests/scene_samples.hpp"
+#include "tools/scene.hpp"
+
+namespace dhpd::scene {
+namespace {
+
+using samples::kMinimal;
+
+/// kMinimal with 1-based line `line` replaced by `text` (which may span several lines).
+std::string replace_line(int line, const std::string& text) {
+  std::istringstream in(kMinimal);
+  std::string out, current;
+  for (int n = 1; std::getline(in, current); ++n) out += (n == line ? text : current) + "\n";
+  return out;
+}
+std::string plus(const std::string& text) {
+  return std::string(kMinimal) + text + "\n";
+}
+
+struct BadScene {
+  std::string name;
+  std::string yaml;
+  std::string expected;  ///< substring of the message, including "file:line: key.path:"
+  std::vector<Override> overrides = {};
+};
+
+std::ostream& operator<<(std::ostream& os, const BadScene& c) {
+  return os << c.name;
+}
+
+const std::string kBox3 = "{shape: box, min: [0, 0, 0], max: [1, 1, 1], spacing: 0.1, material: g}";
+
+const std::vector<BadScene> kBadScenes = {
+    {"UnknownKeySuggestion",
+     replace_line(6, "  - {shape: box, min: [0, 0], max: [1, 1], spacing: 0.1, materail: glass}"),
+     "bad.yaml:6: body.0.materail: unknown key 'materail', did you mean 'material'? (allowed: "
+     "shape, min, max, spacing, material)"},
+    {"UnknownTopLevelKey", replace_line(7, "tiem: {end: 1.0}"),
+     "bad.yaml:7: tiem: unknown key 'tiem', did you mean 'time'?"},
+    {"DuplicateKey", replace_line(4, "  glass:\n    E: 1.0e9\n    rho: 1000\n    E: 2.0e9"),
+     "bad.yaml:7: materials.glass.E: duplicate key 'E' (first given on line 5)"},
+    {"DuplicateTopLevelKey", plus("dimension: 3"),
+     "bad.yaml:8: dimension: duplicate key 'dimension' (first given on line 2)"},
+    {"YoungModulusZero", replace_line(4, "  glass: {E: 0, rho: 1000}"),
+     "bad.yaml:4: materials.glass.E: E must be > 0, got 0 (allowed: > 0)"},
+    {"DensityNegative", replace_line(4, "  glass:\n    E: 1.0e9\n    rho: -5"),
+     "bad.yaml:6: materials.glass.rho: rho must be > 0, got -5 (allowed: > 0)"},
+    {"FractureEnergyNegative", replace_line(4, "  glass: {E: 1.0e9, rho: 1000, G0: -1}"),
+     "bad.yaml:4: materials.glass.G0: G0 must be >= 0, got -1"},
+    {"EnergyAsString", replace_line(4, "  glass: {E: stiff, rho: 1000}"),
+     "bad.yaml:4: materials.glass.E: expected a number, got 'stiff'"},
+    {"QuotedNumber", replace_line(4, "  glass: {E: \"1e9\", rho: 1000}"),
+     "bad.yaml:4: materials.glass.E: expected a number, got '1e9'"},
+    {"SpacingZero",
+     replace_line(6, "  - {shape: box, min: [0, 0], max: [1, 1], spacing: 0, material: glass}"),
+     "bad.yaml:6: body.0.spacing: spacing must be > 0, got 0 (allowed: > 0)"},
+    {"SpacingLargerThanPart",
+     replace_line(6, "  - {shape: box, min: [0, 0], max: [1, 0.5], spacing: 0.6, material: glass}"),
+     "bad.yaml:6: body.0.spacing: spacing 0.6 is larger than the part's smallest extent 0.5"},
+    {"BoxMaxBelowMin",
+     replace_line(6, "  - {shape: box, min: [0, 0], max: [1, 0], spacing: 0.1, material: glass}"),
+     "bad.yaml:6: body.0.max: max must be greater than min on every axis, but on y"},
+    {"PointOfWrongLength",
+     replace_line(6, "  - {shape: box, min: [0, 0, 0], max: [1, 1], spacing: 0.1, material: g}"),
+     "bad.yaml:6: body.0.min: expected a list of 2 numbers (one per axis), got 3 items"},
+    {"UnknownShape",
+     replace_line(6, "  - {shape: ball, min: [0, 0], max: [1, 1], spacing: 0.1, material: glass}"),
+     "bad.yaml:6: body.0.shape: unknown shape 'ball' (allowed: box)"},
+    {"MaterialNotDefined",
+     replace_line(6, "  - {shape: box, min: [0, 0], max: [1, 1], spacing: 0.1, material: glas}"),
+     "bad.yaml:6: body.0.material: material 'glas' is not defined in materials, did you mean "
+     "'glass'? (allowed: glass)"},
+    {"HorizonFactorBelowOne", plus("horizon: {factor: 0.5}"),
+     "bad.yaml:8: horizon.factor: the horizon factor (horizon / spacing) must be at least 1, got "
+     "0.5"},
+    {"HorizonNotAMap", plus("horizon: 3"), "bad.yaml:8: horizon: expected a map of keys, got '3'"},
+    {"EmptyBody", replace_line(6, "  []"), "bad.yaml:5: body: the body needs at least one part"},
+    {"BodyIsAMap", replace_line(6, "  shape: box"), "bad.yaml:5: body: expected a list, got a map"},
+    {"EndTimeNegative", replace_line(7, "time: {end: -1}"),
+     "bad.yaml:7: time.end: end must be > 0, got -1 (allowed: > 0)"},
+    {"StepsNotInteger", replace_line(7, "time:\n  steps: 2.5"),
+     "bad.yaml:8: time.steps: expected an integer, got '2.5'"},
+    {"StepsZero", replace_line(7, "time: {steps: 0}"),
+     "bad.yaml:7: time.steps: steps must be an integer > 0, got 0"},
+    {"EndAndSteps", replace_line(7, "time: {end: 1, steps: 10}"),
+     "bad.yaml:7: time: give either end or steps, not both (allowed: end, steps)"},
+    {"SafetyAboveOne", replace_line(7, "time: {end: 1, safety: 1.5}"),
+     "bad.yaml:7: time.safety: safety must lie in (0, 1], got 1.5 (allowed: 0 < safety <= 1)"},
+    {"FixedStepZero", replace_line(7, "time: {end: 1, dt: 0}"),
+     "bad.yaml:7: time.dt: dt must be > 0, got 0"},
+    {"MissingTime", replace_line(7, "model: dual-horizon"),
+     "bad.yaml:1: missing required key 'time'"},
+    {"MaterialsAsList", replace_line(4, "  - {E: 1.0e9, rho: 1000}"),
+     "bad.yaml:3: materials: expected a map of keys, got a list"},
+    {"PoissonRatioIn3D",
+     "name: t\ndimension: 3\nmaterials:\n  g: {E: 1.0e9, rho: 1000, nu: 0.3}\nbody:\n  - " + kBox3 +
+         "\ntime: {end: 1.0}\n",
+     "bad.yaml:4: materials.g.nu: bond-based peridynamics fixes nu = 0.25 in 3D, got 0.3"},
+    {"PlaneIn3D", "name: t\ndimension: 3\nplane: stress\n",
+     "bad.yaml:3: plane: plane applies only to 2D scenes; this scene has dimension 3"},
+    {"AreaIn2D", plus("area: 0.01"), "bad.yaml:8: area: area applies only to 1D scenes"},
+    {"ThicknessZero", plus("thickness: 0"), "bad.yaml:8: thickness: thickness must be > 0, got 0"},
+    {"DimensionFour", replace_line(2, "dimension: 4"),
+     "bad.yaml:2: dimension: dimension must be 1, 2 or 3, got 4 (allowed: 1, 2, 3)"},
+    {"UnknownModelWord", plus("model: dual-horizons"),
+     "bad.yaml:8: model: unknown model 'dual-horizons', did you mean 'dual-horizon'? (allowed: "
+     "dual-horizon, constant-horizon, classical-variable)"},
+    {"PartialVolumeExact", plus("partial_volume: exact"),
+     "bad.yaml:8: partial_volume: partial_volume 'exact' is not available yet (allowed: none, "
+     "linear)"},
+    {"CrackWithThreePoints2D", plus("cracks:\n  - [[0, 0.5], [0.5, 0.5], [0.7, 0.5]]"),
+     "bad.yaml:9: cracks.0: expected a list of 2 end points"},
+    {"CrackNotPlanar3D",
+     "name: t\ndimension: 3\nmaterials:\n  g: {E: 1.0e9, rho: 1000}\nbody:\n  - " + kBox3 +
+         "\ncracks:\n  - [[0, 0, 0.5], [1, 0, 0.5], [1, 1, 0.5], [0, 1, 0.9]]\n",
+     "bad.yaml:8: cracks.0: the 4 corners of a 3D crack must lie in one plane"},
+    {"CrackIn1D",
+     "name: t\ndimension: 1\nmaterials: {g: {E: 1, rho: 1}}\n"
+     "body: [{shape: box, min: [0], max: [1], spacing: 0.1, material: g}]\ncracks: []\n",
+     "bad.yaml:5: cracks: cracks are not available in 1D scenes"},
+    {"EveryAndFrames", plus("output:\n  every: 10\n  frames: 5"),
+     "bad.yaml:8: output: give either every (steps between frames) or frames (count), not both"},
+    {"BadFieldName", plus("output: {fields: [strain_energy_densty]}"),
+     "bad.yaml:8: output.fields.0: unknown field 'strain_energy_densty', did you mean "
+     "'strain_energy_density'? (allowed: strain_energy_density, force_density"},
+    {"FieldListedTwice", plus("output:\n  fields: [bond_count, bond_count]"),
+     "bad.yaml:9: output.fields.1: field 'bond_count' is listed twice"},
+    {"DefaultFieldListed", plus("output: {fields: [damage]}"),
+     "bad.yaml:8: output.fields.0: field 'damage' is always written"},
+    {"HistoryEveryZero", plus("output: {history_every: 0}"),
+     "bad.yaml:8: output.history_every: history_every must be an integer > 0, got 0"},
+    {"VelocityAxisZIn2D",
+     plus("boundary_conditions:\n  - region: {shape: box, min: [0, 0], max: [1, 1]}\n"
+          "    velocity: {x: 0, z: 1}"),
+     "bad.yaml:10: boundary_conditions.0.velocity.z: axis 'z' does not exist in a 2D scene "
+     "(allowed: x, y)"},
+    {"TractionWithoutNormal",
+     plus("boundary_conditions:\n  - region: {shape: box, min: [0, 0], max: [1, 1]}\n"
+          "    traction: [1, 0]"),
+     "bad.yaml:9: boundary_conditions.0: missing required key 'normal'"},
+    {"NormalWithoutTraction",
+     plus("boundary_conditions:\n  - region: {shape: box, min: [0, 0], max: [1, 1]}\n"
+          "    fixed: true\n    normal: x"),
+     "bad.yaml:11: boundary_conditions.0.normal: normal is only used with traction"},
+    {"FixedFalse",
+     plus("boundary_conditions:\n  - {region: {shape: box, min: [0, 0], max: [1, 1]}, fixed: no}"),
+     "bad.yaml:9: boundary_conditions.0.fixed: expected true or false, got 'no'"},
+    {"TwoBoundaryKinds",
+     plus("boundary_conditions:\n  - {region: {shape: box, min: [0, 0], max: [1, 1]}, fixed: true,"
+          " velocity: {x: 1}}"),
+     "bad.yaml:9: boundary_conditions.0: give only one of velocity, fixed, traction"},
+    {"InitialConditionWithoutValues",
+     plus("initial_conditions:\n  - {region: {shape: box, min: [0, 0], max: [1, 1]}}"),
+     "bad.yaml:9: initial_conditions.0: give at least one of velocity, displacement, strain"},
+    {"GaussianWidthZero",
+     plus("initial_conditions:\n  - region: {shape: box, min: [0, 0], max: [1, 1]}\n"
+          "    velocity: [0, 1]\n    gaussian: {center: [0.5, 0.5], width: 0}"),
+     "bad.yaml:11: initial_conditions.0.gaussian.width: width must be > 0, got 0"},
+    {"FractureWithoutG0",
+     replace_line(4, "  glass: {E: 1.0e9, rho: 1000}\neffects: {fracture: true}"),
+     "bad.yaml:4: materials.glass: G0 (fracture energy, J/m^2) is required when effects.fracture "
+     "is true"},
+    {"UnknownEffect", plus("effects: {refinement: true}"),
+     "bad.yaml:8: effects.refinement: unknown key 'refinement' (allowed: fracture)"},
+    {"NameWithSlash", replace_line(1, "name: a/b"),
+     "bad.yaml:1: name: name 'a/b' cannot be used in output file names"},
+    {"SyntaxError", replace_line(6, "  - {shape: box, min: [0, 0, max: [1, 1]}"),
+     "bad.yaml:6: YAML syntax error"},
+    {"EmptyFile", "# nothing here\n", "bad.yaml: the scene is empty"},
+    {"TopLevelList", "- name: t\n", "bad.yaml:1: the top level of a scene must be a map"},
+    {"SetIntoScalar", kMinimal, "--set name.x: cannot set 'x' inside 'name'", {{"name.x", "1"}}},
+    {"SetNotAnIndex",
+     kMinimal,
+     "--set body.first.spacing: 'body' is a list: use an item number",
+     {{"body.first.spacing", "1"}}},
+    {"SetIndexOutOfRange",
+     kMinimal,
+     "--set body.3.spacing: item 3 is out of range: 'body' has 1 item (allowed: 0 to 0)",
+     {{"body.3.spacing", "0.1"}}},
+    {"SetUnknownKey",
+     kMinimal,
+     "--set tiem: unknown key 'tiem', did you mean 'time'?",
+     {{"tiem.end", "1"}}},
+    {"SetNegativeSpacing",
+     kMinimal,
+     "--set body.0.spacing: spacing must be > 0, got -1 (allowed: > 0)",
+     {{"body.0.spacing", "-1"}}},
+    {"SetWrongType",
+     kMinimal,
+     "--set time.end: expected a number, got a list",
+     {{"time.end", "[1, 2]"}}},
+    {"SetUnreadableValue",
+     kMinimal,
+     "--set time.end: cannot read the value '[1' as YAML",
+     {{"time.end", "[1"}}},
+    {"SetInsideNewMap",
+     kMinimal,
+     "--set effects.fracture: expected true or false, got 'maybe'",
+     {{"effects", "{fracture: maybe}"}}},
+};
+
+class BadSceneTest : public ::testing::TestWithParam<BadScene> {};
+
+TEST_P(BadSceneTest, IsRefusedWithLocation) {
+  const BadScene& c = GetParam();
+  try {
+    parse_scene(c.yaml, "bad.yaml", c.overrides);
+    FAIL() << "accepted:\n" << c.yaml;
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(c.expected), std::string::npos)
+        << "message:  " << e.what() << "\nexpected: " << c.expected;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Table, BadSceneTest, ::testing::ValuesIn(kBadScenes),
+                         [](const auto& info) { return info.param.name; });
+
+}  // namespace
+}  // namespace dhpd::scene

@@ -1,0 +1,146 @@
+// Scene → SimulationSetup → Simulation, with the checks that need particles.
+#include "tools/scene_build.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fmt/core.h>
+#include <map>
+#include <set>
+#include <yaml-cpp/yaml.h>
+
+#include "engine/errors.hpp"
+#include "engine/kernels.hpp"
+
+namespace dhpd::scene {
+namespace {
+
+int material_index(const Scene& s, const std::string& name, const Location& where) {
+  for (std::size_t k = 0; k < s.materials.size(); ++k)
+    if (s.materials[k].name == name) return static_cast<int>(k);
+  fail(where, fmt::format("material '{}' is not defined", name));
+}
+
+bool selects_any(const geometry::PointSet& pts, const geometry::Box& box, int dim) {
+  return std::any_of(pts.position.begin(), pts.position.end(),
+                     [&](const geometry::Vec3& x) { return box.contains(x, dim); });
+}
+
+void require_particles(const geometry::PointSet& pts, const geometry::Box& box, int dim,
+                       const Location& where) {
+  if (!selects_any(pts, box, dim))
+    fail({where.file, where.line, where.path + ".region"},
+         "selects no particle: the region lies outside the body (or between particles)");
+}
+
+}  // namespace
+
+SimulationSetup build_setup(const Scene& s) {
+  SimulationSetup setup;
+  setup.section.dim = s.dimension;
+  setup.section.plane = s.plane;
+  setup.section.thickness = s.thickness;
+  setup.section.area = s.area;
+  setup.model = s.model;
+  setup.partial_volume = s.partial_volume;
+  setup.horizon_factor = s.horizon_factor;
+  for (const auto& m : s.materials) setup.materials.push_back(m.law);
+  std::vector<geometry::LatticePart> parts;
+  for (const auto& part : s.body)
+    parts.push_back({part.box, part.spacing, material_index(s, part.material, part.where)});
+  setup.points = geometry::fill_lattice(parts, s.dimension);
+  for (std::size_t p = 0; p < s.body.size(); ++p)
+    if (std::find(setup.points.part.begin(), setup.points.part.end(), static_cast<int>(p)) ==
+        setup.points.part.end())
+      fail(s.body[p].where, "this part adds no particle: later parts cover all of it");
+  for (const auto& c : s.cracks) setup.cracks.push_back(c.crack);
+  for (const auto& r : s.no_fail) {
+    if (!selects_any(setup.points, r.box, s.dimension))
+      fail(r.where, "selects no particle: the region lies outside the body");
+    setup.no_fail.push_back(r.box);
+  }
+  for (const auto& ic : s.initial_conditions) {
+    require_particles(setup.points, ic.ic.region, s.dimension, ic.where);
+    setup.initial_conditions.push_back(ic.ic);
+  }
+  for (const auto& bc : s.boundary_conditions) {
+    require_particles(setup.points, bc.bc.region, s.dimension, bc.where);
+    setup.boundary_conditions.push_back(bc.bc);
+  }
+  setup.effects = s.effects;
+  setup.safety = s.time.safety;
+  setup.fixed_dt = s.time.dt;
+  return setup;
+}
+
+std::unique_ptr<Simulation> build_simulation(const Scene& s) {
+  auto sim = std::make_unique<Simulation>(build_setup(s));
+  if (!sim->dt_is_stable())
+    fail({s.time.where.file, s.time.where.line, "time.dt"},
+         fmt::format("{:.6g} s is above the stable time step {:.6g} s", sim->dt(),
+                     sim->critical_dt()),
+         fmt::format("0 < dt <= {:.6g}", sim->critical_dt()));
+  return sim;
+}
+
+std::int64_t planned_steps(const Scene& s, double dt) {
+  if (s.time.steps) return *s.time.steps;
+  return static_cast<std::int64_t>(std::ceil(*s.time.end / dt * (1.0 - 1e-12)));
+}
+
+double estimated_memory_bytes(const Simulation& sim) {
+  const double n = static_cast<double>(sim.particles().size());
+  const double bonds = static_cast<double>(sim.bonds().size());
+  const double rows = static_cast<double>(sim.interactions().size());
+  const double per_particle = 8.0 * (3 * 5 + 5) + 4 * 2 + 1 + 8 * 2 + 8 * 3;
+  const double per_bond = 4 + 4 + 8 + 8 + 1 + 4 + 8 + 8;  // bond list, dual id, slots
+  const double per_interaction = 4 + 8 + 8;
+  return n * per_particle + bonds * per_bond + rows * per_interaction;
+}
+
+namespace {
+
+/// Shortest text that reads back to the same double.
+std::string num(double v) { return fmt::format("{}", v); }
+
+/// C and s0 for each distinct (material, spacing) pair present in the run.
+void emit_material_table(YAML::Emitter& out, const Scene& s, const Simulation& sim) {
+  const auto& p = sim.particles();
+  std::map<std::pair<int, double>, std::size_t> first;
+  for (std::size_t i = 0; i < p.size(); ++i) first.emplace(std::make_pair(p.material[i], p.spacing[i]), i);
+  out << YAML::Key << "bond_constants" << YAML::Value << YAML::BeginSeq;
+  for (const auto& [key, i] : first) {
+    const auto& law = s.materials[static_cast<std::size_t>(key.first)].law;
+    out << YAML::BeginMap << YAML::Key << "material" << YAML::Value
+        << s.materials[static_cast<std::size_t>(key.first)].name;
+    out << YAML::Key << "spacing" << YAML::Value << num(key.second);
+    out << YAML::Key << "horizon" << YAML::Value << num(p.horizon[i]);
+    out << YAML::Key << "micromodulus_C" << YAML::Value << num(sim.micromodulus()[i]);
+    if (law.G0 > 0) out << YAML::Key << "critical_stretch_s0" << YAML::Value << num(sim.critical_stretch()[i]);
+    out << YAML::Key << "rayleigh_speed" << YAML::Value
+        << num(rayleigh_speed(law, sim.setup().section));
+    out << YAML::EndMap;
+  }
+  out << YAML::EndSeq;
+}
+
+}  // namespace
+
+std::string derived_yaml(const Scene& s, const Simulation& sim) {
+  YAML::Emitter out;
+  out << YAML::BeginMap << YAML::Key << "derived" << YAML::Value << YAML::BeginMap;
+  out << YAML::Key << "particles" << YAML::Value << sim.particles().size();
+  out << YAML::Key << "bonds" << YAML::Value << sim.bonds().size();
+  out << YAML::Key << "interactions" << YAML::Value << sim.interactions().size();
+  out << YAML::Key << "poisson_ratio" << YAML::Value << num(implied_poisson_ratio(sim.setup().section));
+  emit_material_table(out, s, sim);
+  out << YAML::Key << "stable_dt" << YAML::Value << num(sim.critical_dt());
+  out << YAML::Key << "dt" << YAML::Value << num(sim.dt());
+  out << YAML::Key << "steps" << YAML::Value << planned_steps(s, sim.dt());
+  out << YAML::Key << "end_time" << YAML::Value
+      << num(static_cast<double>(planned_steps(s, sim.dt())) * sim.dt());
+  out << YAML::Key << "estimated_memory_mb" << YAML::Value << num(estimated_memory_bytes(sim) / 1e6);
+  out << YAML::EndMap << YAML::EndMap;
+  return std::string(out.c_str()) + "\n";
+}
+
+}  // namespace dhpd::scene

@@ -1,0 +1,119 @@
+// Private helpers of the scene reader: a YAML node with its key path and source location, a map
+// view that refuses duplicate and unknown keys, and the value checks. Not part of the public API.
+#pragma once
+#include <yaml-cpp/yaml.h>
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "tools/scene.hpp"
+
+namespace dhpd::scene::detail {
+
+/// Name of the pseudo-file that locations of command-line overrides carry.
+inline constexpr std::string_view kOverrideSource = "--set";
+
+/// Where the tree came from: the scene file and the key paths replaced from the command line.
+struct Source {
+  std::string file;
+  std::vector<std::string> override_paths;
+};
+
+/// A YAML node with its key path and the line it was written on (key line for map values).
+class Cursor {
+ public:
+  Cursor(const Source& source, YAML::Node node, std::string path, int line, bool overridden);
+  static Cursor root(const Source& source, const YAML::Node& node);
+
+  const YAML::Node& node() const { return node_; }
+  const std::string& path() const { return path_; }
+  std::string_view key() const;  ///< last path component
+  Location where() const;
+  [[noreturn]] void fail(std::string_view message, std::string_view allowed = {}) const;
+
+  Cursor child(std::string key, const YAML::Node& value, const YAML::Node& key_node) const;
+  Cursor element(std::size_t index, const YAML::Node& value) const;
+
+  std::string describe() const;  ///< "'text'", "a list", "a map" or "nothing", for messages
+  std::string text() const;      ///< the scalar as written, or describe() for other nodes
+  double number() const;
+  std::int64_t integer() const;
+  bool boolean() const;
+  std::string string() const;
+  std::vector<Cursor> list() const;
+  std::vector<Cursor> list_of_size(std::size_t size, std::string_view what) const;
+  /// A list of exactly `dim` numbers; unused axes stay 0.
+  geometry::Vec3 point(int dim) const;
+  /// Index of the word in `allowed`; unknown words fail with a suggestion and the allowed list.
+  /// `what` names the word in the message (default: the key).
+  std::size_t choice(const std::vector<std::string>& allowed, std::string_view what = {}) const;
+
+ private:
+  const Source* source_;
+  YAML::Node node_;
+  std::string path_;
+  int line_;
+  bool overridden_;
+};
+
+/// The entries of a YAML map, refusing duplicate keys and (when `allowed` is not empty) unknown
+/// keys with a "did you mean" suggestion.
+class MapView {
+ public:
+  MapView(const Cursor& map, const std::vector<std::string>& allowed);
+
+  const Cursor& self() const { return self_; }
+  bool has(std::string_view key) const { return get(key).has_value(); }
+  std::optional<Cursor> get(std::string_view key) const;
+  Cursor require(std::string_view key) const;
+  const std::vector<std::pair<std::string, Cursor>>& entries() const { return entries_; }
+
+ private:
+  Cursor self_;
+  std::vector<std::pair<std::string, Cursor>> entries_;
+};
+
+/// Comma-separated list of words, for "(allowed: ...)".
+std::string join(const std::vector<std::string>& words);
+/// The closest word of `candidates` within a small edit distance, if any.
+std::optional<std::string> closest_word(std::string_view word,
+                                        const std::vector<std::string>& candidates);
+/// Axis names "x", "y", "z" limited to the dimension.
+std::vector<std::string> axis_names(int dim);
+
+/// Replaces the nodes named by the overrides (see cases/README.md, "Command-line overrides");
+/// returns their key paths with list indices written canonically.
+std::vector<std::string> apply_overrides(YAML::Node& root, const std::vector<Override>& overrides);
+
+// Value checks (scene_validate.cpp); each reads the cursor's value and fails with its location.
+double positive_number(const Cursor& c);
+double non_negative_number(const Cursor& c);
+std::int64_t positive_integer(const Cursor& c);
+double horizon_factor(const Cursor& c);
+double safety_factor(const Cursor& c);
+int dimension(const Cursor& c);
+std::string scene_name(const Cursor& c);
+/// Fails unless max > min on every axis of the dimension.
+void check_box(const Cursor& at, const geometry::Box& box, int dim);
+/// Fails unless 0 < spacing <= the smallest extent of the box.
+void check_spacing(const Cursor& at, double spacing, const geometry::Box& box, int dim);
+/// Fails when a given Poisson's ratio differs from the one bond-based PD implies.
+void check_poisson(const Cursor& at, double nu, const Section& section);
+/// 2D: two distinct points; 3D: four coplanar corners.
+void check_crack(const Cursor& at, const geometry::Crack& crack, int dim);
+
+// Section readers (scene_regions.cpp), shared by the top-level reader.
+/// The box of a map holding shape/min/max (and possibly other keys the caller reads).
+geometry::Box box_from(const MapView& map, int dim);
+/// A region: a map of exactly shape/min/max.
+geometry::Box read_box(const Cursor& c, int dim);
+std::vector<LocatedCrack> read_cracks(const Cursor& c, int dim);
+std::vector<Region> read_regions(const Cursor& c, int dim);
+std::vector<LocatedInitialCondition> read_initial_conditions(const Cursor& c, int dim);
+std::vector<LocatedBoundaryCondition> read_boundary_conditions(const Cursor& c, int dim);
+
+}  // namespace dhpd::scene::detail

@@ -1,0 +1,192 @@
+// The resolved scene: every default written out, as YAML that reads back into the same Scene.
+#include <fmt/format.h>
+
+#include <cstdlib>
+
+#include "engine/material_law.hpp"
+#include "tools/scene_detail.hpp"
+
+namespace dhpd::scene {
+namespace {
+
+/// Shortest %g-style text that reads back to the same double (7.2e+10 rather than 72000000000).
+std::string number_text(double value) {
+  constexpr int kMaxDigits = 17;
+  for (int digits = 1; digits < kMaxDigits; ++digits) {
+    std::string text = fmt::format("{:.{}g}", value, digits);
+    if (std::strtod(text.c_str(), nullptr) == value) return text;
+  }
+  return fmt::format("{:.{}g}", value, kMaxDigits);
+}
+
+void emit_point(YAML::Emitter& out, const geometry::Vec3& p, int dim) {
+  out << YAML::Flow << YAML::BeginSeq;
+  for (int a = 0; a < dim; ++a) out << number_text(p[a]);
+  out << YAML::EndSeq;
+}
+
+/// The shape/min/max entries of a box, inside a map the caller has opened.
+void emit_box_entries(YAML::Emitter& out, const geometry::Box& box, int dim) {
+  out << YAML::Key << "shape" << YAML::Value << "box";
+  out << YAML::Key << "min" << YAML::Value;
+  emit_point(out, box.min, dim);
+  out << YAML::Key << "max" << YAML::Value;
+  emit_point(out, box.max, dim);
+}
+
+void emit_region(YAML::Emitter& out, const geometry::Box& box, int dim) {
+  out << YAML::Flow << YAML::BeginMap;
+  emit_box_entries(out, box, dim);
+  out << YAML::EndMap;
+}
+
+void emit_materials(YAML::Emitter& out, const Scene& s) {
+  const Section section{s.dimension, s.plane, s.thickness, s.area};
+  out << YAML::Key << "materials" << YAML::Value << YAML::BeginMap;
+  for (const auto& m : s.materials) {
+    out << YAML::Key << m.name << YAML::Value << YAML::Flow << YAML::BeginMap;
+    out << YAML::Key << "E" << YAML::Value << number_text(m.law.E);
+    out << YAML::Key << "rho" << YAML::Value << number_text(m.law.rho);
+    out << YAML::Key << "G0" << YAML::Value << number_text(m.law.G0);
+    out << YAML::Key << "nu" << YAML::Value << number_text(implied_poisson_ratio(section));
+    out << YAML::EndMap;
+  }
+  out << YAML::EndMap;
+}
+
+void emit_body(YAML::Emitter& out, const Scene& s) {
+  out << YAML::Key << "body" << YAML::Value << YAML::BeginSeq;
+  for (const auto& part : s.body) {
+    out << YAML::Flow << YAML::BeginMap;
+    emit_box_entries(out, part.box, s.dimension);
+    out << YAML::Key << "spacing" << YAML::Value << number_text(part.spacing);
+    out << YAML::Key << "material" << YAML::Value << part.material;
+    out << YAML::EndMap;
+  }
+  out << YAML::EndSeq;
+}
+
+void emit_cracks_and_no_fail(YAML::Emitter& out, const Scene& s) {
+  if (!s.cracks.empty()) {
+    out << YAML::Key << "cracks" << YAML::Value << YAML::BeginSeq;
+    for (const auto& c : s.cracks) {
+      out << YAML::Flow << YAML::BeginSeq;
+      for (const auto& p : c.crack.points) emit_point(out, p, s.dimension);
+      out << YAML::EndSeq;
+    }
+    out << YAML::EndSeq;
+  }
+  if (!s.no_fail.empty()) {
+    out << YAML::Key << "no_fail" << YAML::Value << YAML::BeginSeq;
+    for (const auto& r : s.no_fail) emit_region(out, r.box, s.dimension);
+    out << YAML::EndSeq;
+  }
+}
+
+void emit_optional_point(YAML::Emitter& out, const char* key, const std::optional<Vec3>& p,
+                         int dim) {
+  if (!p) return;
+  out << YAML::Key << key << YAML::Value;
+  emit_point(out, *p, dim);
+}
+
+void emit_initial_conditions(YAML::Emitter& out, const Scene& s) {
+  if (s.initial_conditions.empty()) return;
+  const int dim = s.dimension;
+  out << YAML::Key << "initial_conditions" << YAML::Value << YAML::BeginSeq;
+  for (const auto& item : s.initial_conditions) {
+    const InitialCondition& ic = item.ic;
+    out << YAML::BeginMap << YAML::Key << "region" << YAML::Value;
+    emit_region(out, ic.region, dim);
+    emit_optional_point(out, "velocity", ic.velocity, dim);
+    emit_optional_point(out, "displacement", ic.displacement, dim);
+    emit_optional_point(out, "strain", ic.strain, dim);
+    emit_optional_point(out, "origin", ic.origin, dim);
+    if (ic.gaussian_width) {
+      out << YAML::Key << "gaussian" << YAML::Value << YAML::Flow << YAML::BeginMap;
+      emit_optional_point(out, "center", ic.gaussian_center, dim);
+      out << YAML::Key << "width" << YAML::Value << number_text(*ic.gaussian_width);
+      out << YAML::EndMap;
+    }
+    out << YAML::EndMap;
+  }
+  out << YAML::EndSeq;
+}
+
+void emit_boundary_condition(YAML::Emitter& out, const BoundaryCondition& bc, int dim) {
+  const auto axes = detail::axis_names(dim);
+  out << YAML::BeginMap << YAML::Key << "region" << YAML::Value;
+  emit_region(out, bc.region, dim);
+  switch (bc.kind) {
+    case BoundaryCondition::Kind::Velocity:
+      out << YAML::Key << "velocity" << YAML::Value << YAML::Flow << YAML::BeginMap;
+      for (int a = 0; a < dim; ++a)
+        if (bc.velocity[a])
+          out << YAML::Key << axes[a] << YAML::Value << number_text(*bc.velocity[a]);
+      out << YAML::EndMap;
+      break;
+    case BoundaryCondition::Kind::Fixed:
+      out << YAML::Key << "fixed" << YAML::Value << true;
+      break;
+    case BoundaryCondition::Kind::Traction:
+      emit_optional_point(out, "traction", bc.traction, dim);
+      out << YAML::Key << "normal" << YAML::Value << axes[bc.normal_axis];
+      break;
+  }
+  out << YAML::EndMap;
+}
+
+void emit_time(YAML::Emitter& out, const TimeSpec& time) {
+  out << YAML::Key << "time" << YAML::Value << YAML::BeginMap;
+  if (time.end) out << YAML::Key << "end" << YAML::Value << number_text(*time.end);
+  if (time.steps) out << YAML::Key << "steps" << YAML::Value << *time.steps;
+  out << YAML::Key << "safety" << YAML::Value << number_text(time.safety);
+  if (time.dt) out << YAML::Key << "dt" << YAML::Value << number_text(*time.dt);
+  out << YAML::EndMap;
+}
+
+void emit_output(YAML::Emitter& out, const OutputSpec& output) {
+  out << YAML::Key << "output" << YAML::Value << YAML::BeginMap;
+  out << YAML::Key << "directory" << YAML::Value << output.directory;
+  if (output.every) out << YAML::Key << "every" << YAML::Value << *output.every;
+  if (output.frames) out << YAML::Key << "frames" << YAML::Value << *output.frames;
+  out << YAML::Key << "fields" << YAML::Value << YAML::Flow << output.fields;
+  out << YAML::Key << "history_every" << YAML::Value << output.history_every;
+  out << YAML::EndMap;
+}
+
+}  // namespace
+
+std::string resolved_yaml(const Scene& s) {
+  YAML::Emitter out;
+  out.SetBoolFormat(YAML::TrueFalseBool);
+  out << YAML::BeginMap;
+  out << YAML::Key << "name" << YAML::Value << s.name;
+  out << YAML::Key << "dimension" << YAML::Value << s.dimension;
+  if (s.dimension == 2) {
+    out << YAML::Key << "plane" << YAML::Value << std::string(to_string(s.plane));
+    out << YAML::Key << "thickness" << YAML::Value << number_text(s.thickness);
+  }
+  if (s.dimension == 1) out << YAML::Key << "area" << YAML::Value << number_text(s.area);
+  emit_materials(out, s);
+  emit_body(out, s);
+  out << YAML::Key << "horizon" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key
+      << "factor" << YAML::Value << number_text(s.horizon_factor) << YAML::EndMap;
+  out << YAML::Key << "model" << YAML::Value << std::string(to_string(s.model));
+  out << YAML::Key << "partial_volume" << YAML::Value << std::string(to_string(s.partial_volume));
+  emit_cracks_and_no_fail(out, s);
+  emit_initial_conditions(out, s);
+  if (!s.boundary_conditions.empty()) {
+    out << YAML::Key << "boundary_conditions" << YAML::Value << YAML::BeginSeq;
+    for (const auto& bc : s.boundary_conditions) emit_boundary_condition(out, bc.bc, s.dimension);
+    out << YAML::EndSeq;
+  }
+  out << YAML::Key << "effects" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key
+      << "fracture" << YAML::Value << s.effects.fracture << YAML::EndMap;
+  emit_time(out, s.time);
+  emit_output(out, s.output);
+  out << YAML::EndMap;
+  return std::string(out.c_str()) + "\n";
+}
+
+}  // namespace dhpd::scene

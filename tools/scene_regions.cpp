@@ -1,0 +1,145 @@
+// Scene sections made of regions: boxes, cracks, no-fail zones, initial and boundary conditions.
+#include <fmt/format.h>
+
+#include <algorithm>
+
+#include "tools/scene_detail.hpp"
+
+namespace dhpd::scene::detail {
+namespace {
+
+const std::vector<std::string> kShapes{"box"};
+const std::vector<std::string> kRegionKeys{"shape", "min", "max"};
+
+geometry::Vec3 box_centre(const geometry::Box& box) {
+  geometry::Vec3 centre{0, 0, 0};
+  for (int a = 0; a < 3; ++a) centre[a] = 0.5 * (box.min[a] + box.max[a]);
+  return centre;
+}
+
+/// Refuses axis keys the dimension does not have, before the map is read.
+void refuse_missing_axes(const Cursor& c, int dim) {
+  if (!c.node().IsMap()) return;
+  for (auto it = c.node().begin(); it != c.node().end(); ++it) {
+    const auto axes = axis_names(3);
+    const auto found = std::find(axes.begin(), axes.end(), it->first.Scalar());
+    if (found != axes.end() && found - axes.begin() >= dim) {
+      c.child(*found, it->second, it->first)
+          .fail(fmt::format("axis '{}' does not exist in a {}D scene", *found, dim),
+                join(axis_names(dim)));
+    }
+  }
+}
+
+std::array<std::optional<double>, 3> read_velocity_components(const Cursor& c, int dim) {
+  refuse_missing_axes(c, dim);
+  const MapView map(c, axis_names(dim));
+  if (map.entries().empty()) c.fail("give at least one velocity component", join(axis_names(dim)));
+  std::array<std::optional<double>, 3> velocity;
+  const auto axes = axis_names(dim);
+  for (int a = 0; a < dim; ++a)
+    if (const auto component = map.get(axes[a])) velocity[a] = component->number();
+  return velocity;
+}
+
+InitialCondition read_initial_condition(const Cursor& c, int dim) {
+  const MapView map(c, {"region", "velocity", "displacement", "strain", "origin", "gaussian"});
+  InitialCondition ic;
+  ic.region = read_box(map.require("region"), dim);
+  if (const auto v = map.get("velocity")) ic.velocity = v->point(dim);
+  if (const auto u = map.get("displacement")) ic.displacement = u->point(dim);
+  if (const auto e = map.get("strain")) ic.strain = e->point(dim);
+  if (!ic.velocity && !ic.displacement && !ic.strain)
+    c.fail("give at least one of velocity, displacement, strain");
+  const auto origin = map.get("origin");
+  ic.origin = origin ? origin->point(dim) : box_centre(ic.region);
+  if (const auto g = map.get("gaussian")) {
+    if (!ic.velocity && !ic.displacement)
+      g->fail("the gaussian envelope shapes velocity and displacement: give one of them");
+    const MapView envelope(*g, {"center", "width"});
+    ic.gaussian_center = envelope.require("center").point(dim);
+    ic.gaussian_width = positive_number(envelope.require("width"));
+  }
+  return ic;
+}
+
+BoundaryCondition read_boundary_condition(const Cursor& c, int dim) {
+  const MapView map(c, {"region", "velocity", "fixed", "traction", "normal"});
+  BoundaryCondition bc;
+  bc.region = read_box(map.require("region"), dim);
+  const std::vector<std::string> kinds{"velocity", "fixed", "traction"};
+  const auto given =
+      std::count_if(kinds.begin(), kinds.end(), [&](const std::string& k) { return map.has(k); });
+  if (given != 1) {
+    c.fail(given == 0 ? "a boundary condition needs one of velocity, fixed, traction"
+                      : "give only one of velocity, fixed, traction per boundary condition",
+           join(kinds));
+  }
+  if (map.has("normal") && !map.has("traction"))
+    map.get("normal")->fail("normal is only used with traction");
+  if (const auto v = map.get("velocity")) {
+    bc.kind = BoundaryCondition::Kind::Velocity;
+    bc.velocity = read_velocity_components(*v, dim);
+  } else if (const auto fixed = map.get("fixed")) {
+    if (!fixed->boolean())
+      fixed->fail("fixed must be true (leave the condition out to keep the region free)", "true");
+    bc.kind = BoundaryCondition::Kind::Fixed;
+  } else {
+    bc.kind = BoundaryCondition::Kind::Traction;
+    bc.traction = map.get("traction")->point(dim);
+    bc.normal_axis = static_cast<int>(map.require("normal").choice(axis_names(dim)));
+  }
+  return bc;
+}
+
+}  // namespace
+
+geometry::Box box_from(const MapView& map, int dim) {
+  map.require("shape").choice(kShapes);
+  geometry::Box box;
+  box.min = map.require("min").point(dim);
+  const Cursor max = map.require("max");
+  box.max = max.point(dim);
+  check_box(max, box, dim);
+  return box;
+}
+
+geometry::Box read_box(const Cursor& c, int dim) {
+  return box_from(MapView(c, kRegionKeys), dim);
+}
+
+std::vector<LocatedCrack> read_cracks(const Cursor& c, int dim) {
+  std::vector<LocatedCrack> cracks;
+  for (const auto& item : c.list()) {
+    const bool plane = dim == 2;
+    const auto points = item.list_of_size(
+        plane ? 2 : 4, plane ? "end points [[x0, y0], [x1, y1]]" : "corners [[x, y, z], ...]");
+    LocatedCrack crack{{}, item.where()};
+    for (const auto& p : points) crack.crack.points.push_back(p.point(dim));
+    check_crack(item, crack.crack, dim);
+    cracks.push_back(std::move(crack));
+  }
+  return cracks;
+}
+
+std::vector<Region> read_regions(const Cursor& c, int dim) {
+  std::vector<Region> regions;
+  for (const auto& item : c.list()) regions.push_back(Region{read_box(item, dim), item.where()});
+  return regions;
+}
+
+std::vector<LocatedInitialCondition> read_initial_conditions(const Cursor& c, int dim) {
+  std::vector<LocatedInitialCondition> conditions;
+  for (const auto& item : c.list())
+    conditions.push_back({read_initial_condition(item, dim), item.where()});
+  return conditions;
+}
+
+std::vector<LocatedBoundaryCondition> read_boundary_conditions(const Cursor& c, int dim) {
+  std::vector<LocatedBoundaryCondition> conditions;
+  for (const auto& item : c.list())
+    conditions.push_back({read_boundary_condition(item, dim), item.where()});
+  return conditions;
+}
+
+}  // namespace dhpd::scene::detail
