@@ -25,7 +25,9 @@ bool crosses_any(const std::vector<geometry::Crack>& cracks, const geometry::Vec
   return false;
 }
 
-geometry::Vec3 point(const VectorArray& x, std::size_t i) { return {x[0][i], x[1][i], x[2][i]}; }
+geometry::Vec3 point(const VectorArray& x, std::size_t i) {
+  return {x[0][i], x[1][i], x[2][i]};
+}
 
 /// Candidates of owner i that become bonds, with their lengths and weights.
 void bonds_of(std::size_t i, const ParticleStore& p, PartialVolume rule,

@@ -17,8 +17,8 @@ struct BondList {
   std::vector<std::int64_t> offset;  ///< row of owner i is [offset[i], offset[i+1])
   std::vector<std::int32_t> owner;   ///< owner of each bond (redundant with offset; O(1) lookup)
   std::vector<std::int32_t> neighbor;
-  std::vector<double> length;   ///< |ξ| in the reference configuration
-  std::vector<double> weight;   ///< partial-volume factor β_ij
+  std::vector<double> length;        ///< |ξ| in the reference configuration
+  std::vector<double> weight;        ///< partial-volume factor β_ij
   std::vector<std::uint8_t> intact;  ///< μ_ij: 1 until the bond breaks, never healed
 
   std::size_t size() const { return neighbor.size(); }

@@ -1,9 +1,9 @@
 // The per-particle interaction rows that the force kernel gathers over (dhpd.md §3).
-// Row i lists every bond that pushes on i: for dual-horizon its own bonds (coefficient C(δ_i) β_ij V_j)
-// followed by its dual bonds (C(δ_j) β_ji V_j); for the classical models only its own bonds with
-// 2C(δ_i) β_ij V_j. The kernel is the same loop for every model: the model only decides the rows.
-// Rows are derived from the bond list; `intact` in the bond list stays the single truth, and the
-// break pass zeroes the coefficient of both views of a broken bond.
+// Row i lists every bond that pushes on i: for dual-horizon its own bonds (coefficient C(δ_i) β_ij
+// V_j) followed by its dual bonds (C(δ_j) β_ji V_j); for the classical models only its own bonds
+// with 2C(δ_i) β_ij V_j. The kernel is the same loop for every model: the model only decides the
+// rows. Rows are derived from the bond list; `intact` in the bond list stays the single truth, and
+// the break pass zeroes the coefficient of both views of a broken bond.
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -15,9 +15,9 @@ namespace dhpd {
 
 struct InteractionList {
   std::vector<std::int64_t> offset;
-  std::vector<std::int32_t> other;    ///< the particle at the other end
-  std::vector<double> inv_length;     ///< 1/|ξ|
-  std::vector<double> coefficient;    ///< K β V_other, zero once the bond is broken
+  std::vector<std::int32_t> other;      ///< the particle at the other end
+  std::vector<double> inv_length;       ///< 1/|ξ|
+  std::vector<double> coefficient;      ///< K β V_other, zero once the bond is broken
   std::vector<std::int64_t> own_slot;   ///< per bond: its entry in the owner's row
   std::vector<std::int64_t> dual_slot;  ///< per bond: its entry in the neighbour's row, or −1
 

@@ -12,8 +12,7 @@ template <int Dim>
 void force_rows(const InteractionList& il, ParticleStore& p) {
   const auto n = static_cast<std::int64_t>(p.size());
   const double* y[3] = {p.position[0].data(), p.position[1].data(), p.position[2].data()};
-  double* f[3] = {p.force_density[0].data(), p.force_density[1].data(),
-                  p.force_density[2].data()};
+  double* f[3] = {p.force_density[0].data(), p.force_density[1].data(), p.force_density[2].data()};
   const std::int64_t* off = il.offset.data();
   const std::int32_t* other = il.other.data();
   const double* inv_len = il.inv_length.data();
@@ -89,27 +88,36 @@ void energy_rows(const BondList& bonds, const ParticleStore& p, const std::vecto
 
 void internal_force_density(const InteractionList& il, ParticleStore& p) {
   switch (p.dim()) {
-    case 1: return force_rows<1>(il, p);
-    case 2: return force_rows<2>(il, p);
-    default: return force_rows<3>(il, p);
+    case 1:
+      return force_rows<1>(il, p);
+    case 2:
+      return force_rows<2>(il, p);
+    default:
+      return force_rows<3>(il, p);
   }
 }
 
 std::int64_t break_bonds(BondList& bonds, InteractionList& il, const ParticleStore& p,
                          const std::vector<double>& s0) {
   switch (p.dim()) {
-    case 1: return break_rows<1>(bonds, il, p, s0);
-    case 2: return break_rows<2>(bonds, il, p, s0);
-    default: return break_rows<3>(bonds, il, p, s0);
+    case 1:
+      return break_rows<1>(bonds, il, p, s0);
+    case 2:
+      return break_rows<2>(bonds, il, p, s0);
+    default:
+      return break_rows<3>(bonds, il, p, s0);
   }
 }
 
 void strain_energy_density(const BondList& bonds, const ParticleStore& p,
                            const std::vector<double>& C, std::vector<double>& out) {
   switch (p.dim()) {
-    case 1: return energy_rows<1>(bonds, p, C, out);
-    case 2: return energy_rows<2>(bonds, p, C, out);
-    default: return energy_rows<3>(bonds, p, C, out);
+    case 1:
+      return energy_rows<1>(bonds, p, C, out);
+    case 2:
+      return energy_rows<2>(bonds, p, C, out);
+    default:
+      return energy_rows<3>(bonds, p, C, out);
   }
 }
 

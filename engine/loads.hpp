@@ -34,11 +34,11 @@ struct BoundaryCondition {
 
 /// Boundary conditions bound to particle indices for one particle numbering.
 struct ResolvedLoads {
-  std::vector<std::int32_t> prescribed;        ///< particles with prescribed velocity
+  std::vector<std::int32_t> prescribed;           ///< particles with prescribed velocity
   std::vector<std::array<std::uint8_t, 3>> mask;  ///< which components are prescribed
   std::vector<Vec3> prescribed_velocity;
-  std::vector<std::int32_t> loaded;             ///< particles carrying a body force
-  std::vector<Vec3> body_force;                 ///< N/m³
+  std::vector<std::int32_t> loaded;  ///< particles carrying a body force
+  std::vector<Vec3> body_force;      ///< N/m³
 };
 
 /// Particles of `p` inside `region` (reference positions).

@@ -23,11 +23,14 @@ inline double implied_poisson_ratio(const Section& s) {
 inline double micromodulus(const Material& m, const Section& s, double delta) {
   constexpr double pi = std::numbers::pi;
   switch (s.dim) {
-    case 1: return m.E / (s.area * delta * delta);
+    case 1:
+      return m.E / (s.area * delta * delta);
     case 2:
-      return s.plane == PlaneMode::Stress ? 9.0 * m.E / (2.0 * pi * s.thickness * delta * delta * delta)
-                                          : 24.0 * m.E / (5.0 * pi * s.thickness * delta * delta * delta);
-    default: return 6.0 * m.E / (pi * delta * delta * delta * delta);
+      return s.plane == PlaneMode::Stress
+                 ? 9.0 * m.E / (2.0 * pi * s.thickness * delta * delta * delta)
+                 : 24.0 * m.E / (5.0 * pi * s.thickness * delta * delta * delta);
+    default:
+      return 6.0 * m.E / (pi * delta * delta * delta * delta);
   }
 }
 
@@ -36,11 +39,13 @@ inline double micromodulus(const Material& m, const Section& s, double delta) {
 inline double critical_stretch(const Material& m, const Section& s, double delta) {
   constexpr double pi = std::numbers::pi;
   switch (s.dim) {
-    case 1: return std::sqrt(3.0 * m.G0 / (m.E * delta));
+    case 1:
+      return std::sqrt(3.0 * m.G0 / (m.E * delta));
     case 2:
       return s.plane == PlaneMode::Stress ? std::sqrt(4.0 * pi * m.G0 / (9.0 * m.E * delta))
                                           : std::sqrt(5.0 * pi * m.G0 / (12.0 * m.E * delta));
-    default: return std::sqrt(5.0 * m.G0 / (6.0 * m.E * delta));
+    default:
+      return std::sqrt(5.0 * m.G0 / (6.0 * m.E * delta));
   }
 }
 

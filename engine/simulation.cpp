@@ -1,9 +1,9 @@
 // Set-up and velocity-Verlet stepping of bond-based DH-PD (dhpd.md §3–5, §7).
 #include "engine/simulation.hpp"
 
+#include <fmt/core.h>
 #include <algorithm>
 #include <cmath>
-#include <fmt/core.h>
 
 #include "engine/errors.hpp"
 #include "engine/kernels.hpp"
@@ -45,10 +45,12 @@ void Simulation::init_particles() {
   C_.resize(n);
   s0_.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
-    for (int a = 0; a < 3; ++a) p_.reference_position[a][i] = p_.position[a][i] = pts.position[i][a];
+    for (int a = 0; a < 3; ++a)
+      p_.reference_position[a][i] = p_.position[a][i] = pts.position[i][a];
     const auto& mat = setup_.materials.at(static_cast<std::size_t>(pts.material[i]));
     p_.spacing[i] = pts.spacing[i];
-    const double spacing = setup_.model == ForceModel::ConstantHorizon ? max_spacing : pts.spacing[i];
+    const double spacing =
+        setup_.model == ForceModel::ConstantHorizon ? max_spacing : pts.spacing[i];
     p_.horizon[i] = setup_.horizon_factor * spacing;
     p_.volume[i] = setup_.section.volume_of_cell(pts.cell_measure[i]);
     p_.density[i] = mat.rho;
@@ -70,7 +72,8 @@ void Simulation::compute_forces() {
   }
   auto t = timers_.scope(Phase::Loads);
   for (std::size_t k = 0; k < loads_.loaded.size(); ++k)
-    for (int a = 0; a < p_.dim(); ++a) p_.force_density[a][loads_.loaded[k]] += loads_.body_force[k][a];
+    for (int a = 0; a < p_.dim(); ++a)
+      p_.force_density[a][loads_.loaded[k]] += loads_.body_force[k][a];
 }
 
 void Simulation::enforce_prescribed_velocity() {
@@ -164,8 +167,8 @@ Energies Simulation::energies() {
 void Simulation::check_stable(const Energies& e) const {
   const double total = e.kinetic + e.strain;
   if (!std::isfinite(total) || !std::isfinite(e.external_work))
-    throw InstabilityError(fmt::format("the state became non-finite (NaN/Inf) at step {} (t = {:.6g} s)",
-                                       steps_, time_));
+    throw InstabilityError(fmt::format(
+        "the state became non-finite (NaN/Inf) at step {} (t = {:.6g} s)", steps_, time_));
   const double budget = initial_energy_ + std::abs(e.external_work);
   // A stable run keeps KE + SE ≈ initial + external work; an explicit instability grows
   // exponentially. 100× the budget is far outside any Verlet oscillation.

@@ -1,4 +1,5 @@
-// Point generation: a cell-centred lattice fills each body part; later parts win where they overlap.
+// Point generation: a cell-centred lattice fills each body part; later parts win where they
+// overlap.
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -23,7 +24,8 @@ struct PointSet {
   std::size_t size() const { return position.size(); }
 };
 
-/// Number of cells of `part` along each axis (round to nearest so that max−min = n·spacing is exact).
+/// Number of cells of `part` along each axis (round to nearest so that max−min = n·spacing is
+/// exact).
 std::array<std::int64_t, 3> lattice_cells(const LatticePart& part, int dim);
 
 /// Points at min + (i + ½)·spacing; a point inside a later part's box is dropped (that part wins).

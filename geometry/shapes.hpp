@@ -1,4 +1,5 @@
-// Shapes used for bodies and regions. Only axis-aligned boxes for now; the geometry issue adds more.
+// Shapes used for bodies and regions. Only axis-aligned boxes for now; the geometry issue adds
+// more.
 #pragma once
 #include "geometry/vec.hpp"
 

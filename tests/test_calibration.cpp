@@ -60,7 +60,8 @@ TEST_P(Calibration, InteriorEnergyMatchesContinuumTimesQuadrature) {
   const double dx = 1e-3, eps = 1e-4, E = 70e9;
   auto p = test::lattice_store(c.dim, cells, dx, 3.015, s);
   for (std::size_t i = 0; i < p.size(); ++i)
-    for (int a = 0; a < c.dim; ++a) test::set_displacement(p, a, i, eps * p.reference_position[a][i]);
+    for (int a = 0; a < c.dim; ++a)
+      test::set_displacement(p, a, i, eps * p.reference_position[a][i]);
   const Material m{E, 2400, 1.0};
   auto asm_ = test::assemble(p, ForceModel::DualHorizon, c.pv, m, s);
   std::vector<double> w;
@@ -105,9 +106,9 @@ TEST(MaterialLaw, MicromodulusMatchesClosedForms) {
   const double nu3 = 0.25, nus = 1.0 / 3.0;
   EXPECT_LT(rel(micromodulus(m, s3, d), 3 * m.E / (pi * std::pow(d, 4) * (1 - 2 * nu3))), 1e-12);
   EXPECT_LT(rel(micromodulus(m, ps, d), 3 * m.E / (pi * h * std::pow(d, 3) * (1 - nus))), 1e-12);
-  EXPECT_LT(rel(micromodulus(m, pe, d),
-                3 * m.E / (pi * h * std::pow(d, 3) * (1 + nu3) * (1 - 2 * nu3))),
-            1e-12);
+  EXPECT_LT(
+      rel(micromodulus(m, pe, d), 3 * m.E / (pi * h * std::pow(d, 3) * (1 + nu3) * (1 - 2 * nu3))),
+      1e-12);
   EXPECT_LT(rel(micromodulus(m, s1, d), m.E / (A * d * d)), 1e-12);
   EXPECT_EQ(implied_poisson_ratio(ps), 1.0 / 3.0);
   EXPECT_EQ(implied_poisson_ratio(pe), 0.25);

@@ -13,7 +13,7 @@ using geometry::operator-;
 TEST(CrackGeometry, SegmentCrossingIn2D) {
   const Crack c{{{0, 0, 0}, {1, 0, 0}}};
   EXPECT_TRUE(geometry::crosses(c, {0.5, -1, 0}, {0.5, 1, 0}, 2));
-  EXPECT_TRUE(geometry::crosses(c, {0.5, 0, 0}, {0.5, 1, 0}, 2));  // touching counts
+  EXPECT_TRUE(geometry::crosses(c, {0.5, 0, 0}, {0.5, 1, 0}, 2));   // touching counts
   EXPECT_TRUE(geometry::crosses(c, {1.0, -1, 0}, {1.0, 1, 0}, 2));  // through the tip
   EXPECT_FALSE(geometry::crosses(c, {1.01, -1, 0}, {1.01, 1, 0}, 2));
   EXPECT_FALSE(geometry::crosses(c, {0.2, 0.1, 0}, {0.8, 0.5, 0}, 2));
@@ -39,23 +39,31 @@ TEST(CrackBonds, BondsAreExactlyThePairsThatCrossNoCrack) {
     s.dim = dim;
     auto p = test::lattice_store(dim, dim == 2 ? 20 : 8, 1e-3, 3.015, s);
     std::vector<Crack> cracks;
-    if (dim == 2) cracks.push_back({{{0, 0.0101, 0}, {0.012, 0.0101, 0}}});
-    else cracks.push_back({{{0, 0, 0.0041}, {0.005, 0, 0.0041}, {0.005, 0.008, 0.0041}, {0, 0.008, 0.0041}}});
+    if (dim == 2)
+      cracks.push_back({{{0, 0.0101, 0}, {0.012, 0.0101, 0}}});
+    else
+      cracks.push_back(
+          {{{0, 0, 0.0041}, {0.005, 0, 0.0041}, {0.005, 0.008, 0.0041}, {0, 0.008, 0.0041}}});
     const auto bonds = build_bonds(p, PartialVolume::None, cracks);
     std::size_t expected = 0;
     for (std::size_t i = 0; i < p.size(); ++i)
       for (std::size_t j = 0; j < p.size(); ++j) {
         if (i == j) continue;
-        const geometry::Vec3 a{p.reference_position[0][i], p.reference_position[1][i], p.reference_position[2][i]};
-        const geometry::Vec3 b{p.reference_position[0][j], p.reference_position[1][j], p.reference_position[2][j]};
-        if (geometry::norm(b - a) <= p.horizon[i] && !geometry::crosses(cracks[0], a, b, dim)) ++expected;
+        const geometry::Vec3 a{p.reference_position[0][i], p.reference_position[1][i],
+                               p.reference_position[2][i]};
+        const geometry::Vec3 b{p.reference_position[0][j], p.reference_position[1][j],
+                               p.reference_position[2][j]};
+        if (geometry::norm(b - a) <= p.horizon[i] && !geometry::crosses(cracks[0], a, b, dim))
+          ++expected;
       }
     std::size_t crossing = 0;
     for (std::size_t i = 0; i < p.size(); ++i)
       for (auto k = bonds.offset[i]; k < bonds.offset[i + 1]; ++k) {
         const auto j = static_cast<std::size_t>(bonds.neighbor[k]);
-        const geometry::Vec3 a{p.reference_position[0][i], p.reference_position[1][i], p.reference_position[2][i]};
-        const geometry::Vec3 b{p.reference_position[0][j], p.reference_position[1][j], p.reference_position[2][j]};
+        const geometry::Vec3 a{p.reference_position[0][i], p.reference_position[1][i],
+                               p.reference_position[2][i]};
+        const geometry::Vec3 b{p.reference_position[0][j], p.reference_position[1][j],
+                               p.reference_position[2][j]};
         crossing += geometry::crosses(cracks[0], a, b, dim);
       }
     EXPECT_EQ(crossing, 0u) << dim;

@@ -13,9 +13,9 @@ SimulationSetup fracturing_plate() {
   s.materials = {{72e9, 2440, 3.8}};
   s.partial_volume = PartialVolume::Linear;
   using geometry::Box;
-  s.points = geometry::fill_lattice({{Box{{0, 0, 0}, {0.03, 0.012, 0}}, 1e-3, 0},
-                                     {Box{{0.01, 0, 0}, {0.02, 0.012, 0}}, 5e-4, 0}},
-                                    2);
+  s.points = geometry::fill_lattice(
+      {{Box{{0, 0, 0}, {0.03, 0.012, 0}}, 1e-3, 0}, {Box{{0.01, 0, 0}, {0.02, 0.012, 0}}, 5e-4, 0}},
+      2);
   s.cracks = {{{{0.0, 0.006, 0}, {0.012, 0.006, 0}}}};
   BoundaryCondition top, bottom;
   top.kind = bottom.kind = BoundaryCondition::Kind::Traction;

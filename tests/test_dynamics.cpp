@@ -44,9 +44,10 @@ double energy_error(double safety, bool two_parts, int steps) {
 TEST(Energy, RingingPlateKeepsTotalEnergyFor5000Steps) {
   const double uniform = energy_error(0.25, false, 5000);
   const double graded = energy_error(0.25, true, 5000);
-  std::printf("ringing plate, 5000 steps at safety 0.25: max |dE|/E = %.3e (uniform), %.3e (2x finer "
-              "middle part, dual-horizon)\n",
-              uniform, graded);
+  std::printf(
+      "ringing plate, 5000 steps at safety 0.25: max |dE|/E = %.3e (uniform), %.3e (2x finer "
+      "middle part, dual-horizon)\n",
+      uniform, graded);
   EXPECT_LT(uniform, 1e-3);
   EXPECT_LT(graded, 1e-3);
 }
@@ -113,8 +114,10 @@ Reflection reflection_at(ForceModel model, double fine) {
   Reflection r{0, 0};
   for (std::size_t k = 0; k < std::min(jump.size(), ref.size()); ++k) {
     const double t = (k + 1) * dt;
-    if (t < 0.17 / c) r.incident = std::max(r.incident, std::abs(ref[k]));
-    else r.reflected = std::max(r.reflected, std::abs(jump[k] - ref[k]));
+    if (t < 0.17 / c)
+      r.incident = std::max(r.incident, std::abs(ref[k]));
+    else
+      r.reflected = std::max(r.reflected, std::abs(jump[k] - ref[k]));
   }
   return r;
 }
@@ -130,9 +133,10 @@ TEST(WaveReflection, DualHorizonBelowPaperBoundClassicalVariableReflectsAll) {
   const auto dh = reflection_at(ForceModel::DualHorizon, fine);
   const auto cv = reflection_at(ForceModel::ClassicalVariable, fine);
   const double r_dh = dh.reflected / dh.incident, r_cv = cv.reflected / cv.incident;
-  std::printf("1D bar, 10x spacing jump, dx = L/11520: reflected/incident DH-PD %.2f %%, "
-              "classical-variable %.2f %%\n",
-              100 * r_dh, 100 * r_cv);
+  std::printf(
+      "1D bar, 10x spacing jump, dx = L/11520: reflected/incident DH-PD %.2f %%, "
+      "classical-variable %.2f %%\n",
+      100 * r_dh, 100 * r_cv);
   EXPECT_NEAR(dh.incident, 0.001, 1e-4);  // half the initial pulse travels each way
   EXPECT_LT(r_dh, 0.035);
   EXPECT_GT(r_cv, 0.5);
@@ -143,12 +147,14 @@ TEST(WaveReflection, DualHorizonReflectionConvergesClassicalDoesNot) {
     const auto r = reflection_at(m, fine);
     return r.reflected / r.incident;
   };
-  const double dh8 = ratio(ForceModel::DualHorizon, 1.0 / 1920), dh16 = ratio(ForceModel::DualHorizon, 1.0 / 3840);
+  const double dh8 = ratio(ForceModel::DualHorizon, 1.0 / 1920),
+               dh16 = ratio(ForceModel::DualHorizon, 1.0 / 3840);
   const double cv8 = ratio(ForceModel::ClassicalVariable, 1.0 / 1920),
                cv16 = ratio(ForceModel::ClassicalVariable, 1.0 / 3840);
-  std::printf("reflection at dx = L/1920 and L/3840: DH-PD %.2f %% -> %.2f %%, classical-variable "
-              "%.2f %% -> %.2f %%\n",
-              100 * dh8, 100 * dh16, 100 * cv8, 100 * cv16);
+  std::printf(
+      "reflection at dx = L/1920 and L/3840: DH-PD %.2f %% -> %.2f %%, classical-variable "
+      "%.2f %% -> %.2f %%\n",
+      100 * dh8, 100 * dh16, 100 * cv8, 100 * cv16);
   EXPECT_LT(dh16, 0.6 * dh8);
   EXPECT_GT(cv16, 0.9 * cv8);
 }

@@ -2,11 +2,11 @@
 // counts twice under dual-horizon (once for its owner, once as a reaction on its neighbour).
 #include "tools/bench.hpp"
 
-#include <algorithm>
-#include <chrono>
 #include <fmt/core.h>
 #include <fmt/ostream.h>
 #include <omp.h>
+#include <algorithm>
+#include <chrono>
 #include <ostream>
 
 #include "engine/kernels.hpp"
@@ -61,7 +61,8 @@ void run_bench(const BenchOptions& o, std::ostream& out) {
   Simulation fracture(lattice_setup(o, true));
   const auto n = static_cast<double>(elastic.particles().size());
   const auto interactions = static_cast<double>(elastic.interactions().size());
-  fmt::print(out, "dhpd bench: 3D lattice {}³ = {:.0f} particles, m = {}, {} bonds, {:.0f} interactions "
+  fmt::print(out,
+             "dhpd bench: 3D lattice {}³ = {:.0f} particles, m = {}, {} bonds, {:.0f} interactions "
              "({:.1f} per particle)\n",
              o.cells, n, o.horizon_factor, elastic.bonds().size(), interactions, interactions / n);
   fmt::print(out, "median of {} samples of {} steps each\n\n", o.repeats, o.steps);
@@ -70,7 +71,8 @@ void run_bench(const BenchOptions& o, std::ostream& out) {
     omp_set_num_threads(t);
     Row r{t, 0, 0, 0};
     const double kernel = median_seconds(o.repeats, [&] {
-      for (int k = 0; k < o.steps; ++k) internal_force_density(elastic.interactions(), elastic.particles());
+      for (int k = 0; k < o.steps; ++k)
+        internal_force_density(elastic.interactions(), elastic.particles());
     });
     r.kernel_ns = kernel / o.steps / interactions * 1e9;
     r.step_elastic_s = median_seconds(o.repeats, [&] { elastic.run_steps(o.steps); }) / o.steps;
@@ -80,12 +82,13 @@ void run_bench(const BenchOptions& o, std::ostream& out) {
   fmt::print(out, "{:>8} {:>16} {:>22} {:>20} {:>22} {:>16}\n", "threads", "ns/interaction",
              "ns/interaction/core", "particle-steps/s", "p-steps/s (fracture)", "fracture cost");
   for (const auto& r : rows)
-    fmt::print(out, "{:>8} {:>16.3f} {:>22.3f} {:>20.4g} {:>22.4g} {:>15.2f}x\n", r.threads, r.kernel_ns,
-               r.kernel_ns * r.threads, n / r.step_elastic_s, n / r.step_fracture_s,
+    fmt::print(out, "{:>8} {:>16.3f} {:>22.3f} {:>20.4g} {:>22.4g} {:>15.2f}x\n", r.threads,
+               r.kernel_ns, r.kernel_ns * r.threads, n / r.step_elastic_s, n / r.step_fracture_s,
                r.step_fracture_s / r.step_elastic_s);
   if (rows.size() > 1)
-    fmt::print(out, "\nspeed-up {} -> {} threads: kernel {:.2f}x, step {:.2f}x\n", rows.front().threads,
-               rows.back().threads, rows.front().kernel_ns / rows.back().kernel_ns,
+    fmt::print(out, "\nspeed-up {} -> {} threads: kernel {:.2f}x, step {:.2f}x\n",
+               rows.front().threads, rows.back().threads,
+               rows.front().kernel_ns / rows.back().kernel_ns,
                rows.front().step_elastic_s / rows.back().step_elastic_s);
 }
 

@@ -6,9 +6,9 @@
 namespace dhpd {
 
 struct BenchOptions {
-  int cells = 60;          ///< lattice cells per side (60³ = 216,000 particles)
-  int steps = 10;          ///< steps per timed sample
-  int repeats = 5;         ///< samples per configuration; the median is reported
+  int cells = 60;   ///< lattice cells per side (60³ = 216,000 particles)
+  int steps = 10;   ///< steps per timed sample
+  int repeats = 5;  ///< samples per configuration; the median is reported
   std::vector<int> threads{1, 2};
   double horizon_factor = 3.015;
 };

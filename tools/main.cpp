@@ -1,9 +1,9 @@
 // The dhpd command line: run, check, bench. The only place errors become exit codes:
 // 0 success, 1 internal error, 2 bad input (scene or command line), 3 unstable run.
-#include <CLI/CLI.hpp>
 #include <fmt/core.h>
-#include <iostream>
 #include <omp.h>
+#include <CLI/CLI.hpp>
+#include <iostream>
 
 #include "engine/errors.hpp"
 #include "tools/bench.hpp"
@@ -17,7 +17,8 @@ std::vector<dhpd::scene::Override> parse_overrides(const std::vector<std::string
   for (const auto& s : sets) {
     const auto eq = s.find('=');
     if (eq == std::string::npos || eq == 0)
-      throw dhpd::InputError(fmt::format("--set {}: expected key.path=value (e.g. --set body.0.spacing=5e-4)", s));
+      throw dhpd::InputError(
+          fmt::format("--set {}: expected key.path=value (e.g. --set body.0.spacing=5e-4)", s));
     out.push_back({s.substr(0, eq), s.substr(eq + 1)});
   }
   return out;
@@ -42,7 +43,8 @@ int main(int argc, char** argv) {
   run->add_option("scene", scene_file, "scene file (YAML)")->required();
   run->add_option("-o,--out", out_dir, "output directory (overrides output.directory)");
   run->add_option("--set", sets, "override a scene key: key.path=value (repeatable)");
-  run->add_option("-t,--threads", threads, "OpenMP threads (default: all cores)")->check(CLI::Range(1, 1024));
+  run->add_option("-t,--threads", threads, "OpenMP threads (default: all cores)")
+      ->check(CLI::Range(1, 1024));
   run->add_flag("-q,--quiet", quiet, "no log lines or progress");
 
   auto* check = app.add_subcommand("check", "validate a scene and print its derived quantities");
@@ -51,18 +53,23 @@ int main(int argc, char** argv) {
 
   dhpd::BenchOptions bench_opt;
   auto* bench = app.add_subcommand("bench", "force-kernel and step throughput on a 3D lattice");
-  bench->add_option("--cells", bench_opt.cells, "lattice cells per side (default 60: 216k particles)")
+  bench
+      ->add_option("--cells", bench_opt.cells,
+                   "lattice cells per side (default 60: 216k particles)")
       ->check(CLI::Range(4, 400));
   bench->add_option("--steps", bench_opt.steps, "steps per sample")->check(CLI::Range(1, 100000));
-  bench->add_option("--repeats", bench_opt.repeats, "samples (median reported)")->check(CLI::Range(1, 100));
-  bench->add_option("--threads", bench_opt.threads, "thread counts to compare")->check(CLI::Range(1, 1024));
+  bench->add_option("--repeats", bench_opt.repeats, "samples (median reported)")
+      ->check(CLI::Range(1, 100));
+  bench->add_option("--threads", bench_opt.threads, "thread counts to compare")
+      ->check(CLI::Range(1, 1024));
 
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    std::cerr << "dhpd: error: " << e.what() << "\n" << "run 'dhpd --help' for usage\n";
+    std::cerr << "dhpd: error: " << e.what() << "\n"
+              << "run 'dhpd --help' for usage\n";
     return 2;
   }
 

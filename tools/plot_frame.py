@@ -29,7 +29,9 @@ def read(path, field):
     if values.ndim == 2:
         values = np.linalg.norm(values, axis=1)
     time = grid.GetFieldData().GetArray("TimeValue")
-    return points, values, (time.GetValue(0) if time is not None else float("nan"))
+    spacing = grid.GetPointData().GetArray("spacing")
+    spacing = vtk_to_numpy(spacing) if spacing is not None else None
+    return points, values, spacing, (time.GetValue(0) if time is not None else float("nan"))
 
 
 def main():
@@ -38,16 +40,25 @@ def main():
     parser.add_argument("field")
     parser.add_argument("png")
     args = parser.parse_args()
-    points, values, time = read(args.vtu, args.field)
+    points, values, spacing, time = read(args.vtu, args.field)
+    if spacing is None:
+        spacing = np.full(len(points), np.sqrt(np.ptp(points[:, 0]) * max(np.ptp(points[:, 1]), 1e-12) / len(points)))
     if np.ptp(points[:, 2]) > 0:
         mid = 0.5 * (points[:, 2].min() + points[:, 2].max())
-        keep = np.abs(points[:, 2] - mid) <= 0.05 * np.ptp(points[:, 2])
-        points, values = points[keep], values[keep]
-    fig, ax = plt.subplots(figsize=(8, 8 * max(np.ptp(points[:, 1]), 1e-9) / max(np.ptp(points[:, 0]), 1e-9) + 1))
-    size = max(0.5, 4e4 / len(points))
+        keep = np.abs(points[:, 2] - mid) <= 0.5 * spacing.max()
+        points, values, spacing = points[keep], values[keep], spacing[keep]
+    width = np.ptp(points[:, 0]) + spacing.max()
+    height = max(np.ptp(points[:, 1]), 0.0) + spacing.max()
+    fig, ax = plt.subplots(figsize=(8, max(1.5, 8 * height / width) + 0.8))
+    ax.set_xlim(points[:, 0].min() - spacing.max(), points[:, 0].max() + spacing.max())
+    ax.set_ylim(points[:, 1].min() - spacing.max(), points[:, 1].max() + spacing.max())
+    ax.set_aspect("equal")
+    fig.canvas.draw()
+    # Marker side = particle spacing, in points (scatter sizes are points squared).
+    points_per_metre = ax.get_window_extent().width * 72.0 / fig.dpi / np.diff(ax.get_xlim())[0]
+    size = (1.05 * spacing * points_per_metre) ** 2
     sc = ax.scatter(points[:, 0], points[:, 1], c=values, s=size, cmap="viridis", marker="s", linewidths=0)
     fig.colorbar(sc, ax=ax, label=args.field)
-    ax.set_aspect("equal")
     ax.set_title(f"{args.vtu}  t = {time:.4g} s")
     fig.savefig(args.png, dpi=110, bbox_inches="tight")
 

@@ -1,12 +1,12 @@
 // The run loop: step, diagnose, write history and frames, summarise; stop cleanly when unstable.
 #include "tools/runner.hpp"
 
+#include <fmt/core.h>
+#include <omp.h>
 #include <chrono>
 #include <filesystem>
-#include <fmt/core.h>
 #include <fstream>
 #include <iostream>
-#include <omp.h>
 
 #include "engine/errors.hpp"
 #include "tools/frame_fields.hpp"
@@ -69,7 +69,8 @@ struct RunContext {
   void write_frame() {
     auto t = sim.timers().scope(Phase::Output);
     if (sim.setup().effects.fracture) sim.update_damage();
-    frames.write(sim.time(), sim.steps_done(), io::frame_points(sim), io::frame_fields(sim, fields));
+    frames.write(sim.time(), sim.steps_done(), io::frame_points(sim),
+                 io::frame_fields(sim, fields));
   }
   void record(bool frame) {
     const auto e = sim.energies();
@@ -98,8 +99,8 @@ io::Summary make_summary(const scene::Scene& s, const Simulation& sim, double wa
   sum.broken_bonds = sim.broken_bonds();
   const double force_s = std::max(sim.timers().seconds(Phase::Forces), 1e-12);
   sum.bond_updates_per_second = static_cast<double>(sim.interaction_updates()) / force_s;
-  sum.particle_steps_per_second =
-      static_cast<double>(sim.steps_done()) * static_cast<double>(sum.particles_end) / std::max(wall, 1e-12);
+  sum.particle_steps_per_second = static_cast<double>(sim.steps_done()) *
+                                  static_cast<double>(sum.particles_end) / std::max(wall, 1e-12);
   sum.threads = omp_get_max_threads();
   sum.active_effects.push_back("elasticity");
   if (s.effects.fracture) sum.active_effects.push_back("fracture");
@@ -119,20 +120,24 @@ void write_text(const fs::path& path, const std::string& text) {
   fs::rename(tmp, path);
 }
 
-void log_start(const scene::Scene& s, const Simulation& sim, std::int64_t steps, const fs::path& dir) {
-  fmt::print("dhpd: scene '{}' ({}), {}D, model {}, partial volume {}\n", s.name, s.file, s.dimension,
-             to_string(s.model), to_string(s.partial_volume));
-  fmt::print("dhpd: {} particles, {} bonds, {} interactions; dt = {:.4g} s (stable {:.4g} s), {} steps\n",
-             sim.particles().size(), sim.bonds().size(), sim.interactions().size(), sim.dt(),
-             sim.critical_dt(), steps);
+void log_start(const scene::Scene& s, const Simulation& sim, std::int64_t steps,
+               const fs::path& dir) {
+  fmt::print("dhpd: scene '{}' ({}), {}D, model {}, partial volume {}\n", s.name, s.file,
+             s.dimension, to_string(s.model), to_string(s.partial_volume));
+  fmt::print(
+      "dhpd: {} particles, {} bonds, {} interactions; dt = {:.4g} s (stable {:.4g} s), {} steps\n",
+      sim.particles().size(), sim.bonds().size(), sim.interactions().size(), sim.dt(),
+      sim.critical_dt(), steps);
   fmt::print("dhpd: active effects: elasticity{}; threads {}; output in {}\n",
              s.effects.fracture ? ", fracture" : "", omp_get_max_threads(), dir.string());
 }
 
 void log_end(const io::Summary& sum) {
-  fmt::print("dhpd: {} in {:.3f} s: {} steps, {} broken bonds, {:.3g} bond updates/s, {:.3g} particle-steps/s\n",
-             sum.status, sum.wall_seconds, sum.steps, sum.broken_bonds, sum.bond_updates_per_second,
-             sum.particle_steps_per_second);
+  fmt::print(
+      "dhpd: {} in {:.3f} s: {} steps, {} broken bonds, {:.3g} bond updates/s, {:.3g} "
+      "particle-steps/s\n",
+      sum.status, sum.wall_seconds, sum.steps, sum.broken_bonds, sum.bond_updates_per_second,
+      sum.particle_steps_per_second);
   std::string phases;
   for (const auto& p : sum.phases) phases += fmt::format(" {} {:.3f} s;", p.name, p.seconds);
   fmt::print("dhpd: time per phase:{}\n", phases);
@@ -147,11 +152,17 @@ void run_scene(const scene::Scene& s, const RunOptions& opt) {
   const std::int64_t steps = scene::planned_steps(s, sim->dt());
   const fs::path dir = opt.output_directory.value_or(s.output.directory);
   fs::create_directories(dir);
-  write_text(dir / "scene.resolved.yaml", scene::resolved_yaml(s) + "---\n" + scene::derived_yaml(s, *sim));
+  write_text(dir / "scene.resolved.yaml",
+             scene::resolved_yaml(s) + "---\n" + scene::derived_yaml(s, *sim));
   if (opt.echo) log_start(s, *sim, steps, dir);
   const auto particles_start = static_cast<std::int64_t>(sim->particles().size());
-  RunContext ctx{s, *sim, dir, io::FrameSeries(dir.string(), s.name),
-                 io::HistoryWriter((dir / "history.csv").string()), output_field_names(s), steps};
+  RunContext ctx{s,
+                 *sim,
+                 dir,
+                 io::FrameSeries(dir.string(), s.name),
+                 io::HistoryWriter((dir / "history.csv").string()),
+                 output_field_names(s),
+                 steps};
   io::Progress progress(steps, opt.progress && io::Progress::wanted());
   auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
   try {

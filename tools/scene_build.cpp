@@ -1,12 +1,12 @@
 // Scene → SimulationSetup → Simulation, with the checks that need particles.
 #include "tools/scene_build.hpp"
 
+#include <fmt/core.h>
+#include <yaml-cpp/yaml.h>
 #include <algorithm>
 #include <cmath>
-#include <fmt/core.h>
 #include <map>
 #include <set>
-#include <yaml-cpp/yaml.h>
 
 #include "engine/errors.hpp"
 #include "engine/kernels.hpp"
@@ -100,13 +100,16 @@ double estimated_memory_bytes(const Simulation& sim) {
 namespace {
 
 /// Shortest text that reads back to the same double.
-std::string num(double v) { return fmt::format("{}", v); }
+std::string num(double v) {
+  return fmt::format("{}", v);
+}
 
 /// C and s0 for each distinct (material, spacing) pair present in the run.
 void emit_material_table(YAML::Emitter& out, const Scene& s, const Simulation& sim) {
   const auto& p = sim.particles();
   std::map<std::pair<int, double>, std::size_t> first;
-  for (std::size_t i = 0; i < p.size(); ++i) first.emplace(std::make_pair(p.material[i], p.spacing[i]), i);
+  for (std::size_t i = 0; i < p.size(); ++i)
+    first.emplace(std::make_pair(p.material[i], p.spacing[i]), i);
   out << YAML::Key << "bond_constants" << YAML::Value << YAML::BeginSeq;
   for (const auto& [key, i] : first) {
     const auto& law = s.materials[static_cast<std::size_t>(key.first)].law;
@@ -115,7 +118,8 @@ void emit_material_table(YAML::Emitter& out, const Scene& s, const Simulation& s
     out << YAML::Key << "spacing" << YAML::Value << num(key.second);
     out << YAML::Key << "horizon" << YAML::Value << num(p.horizon[i]);
     out << YAML::Key << "micromodulus_C" << YAML::Value << num(sim.micromodulus()[i]);
-    if (law.G0 > 0) out << YAML::Key << "critical_stretch_s0" << YAML::Value << num(sim.critical_stretch()[i]);
+    if (law.G0 > 0)
+      out << YAML::Key << "critical_stretch_s0" << YAML::Value << num(sim.critical_stretch()[i]);
     out << YAML::Key << "rayleigh_speed" << YAML::Value
         << num(rayleigh_speed(law, sim.setup().section));
     out << YAML::EndMap;
@@ -131,14 +135,16 @@ std::string derived_yaml(const Scene& s, const Simulation& sim) {
   out << YAML::Key << "particles" << YAML::Value << sim.particles().size();
   out << YAML::Key << "bonds" << YAML::Value << sim.bonds().size();
   out << YAML::Key << "interactions" << YAML::Value << sim.interactions().size();
-  out << YAML::Key << "poisson_ratio" << YAML::Value << num(implied_poisson_ratio(sim.setup().section));
+  out << YAML::Key << "poisson_ratio" << YAML::Value
+      << num(implied_poisson_ratio(sim.setup().section));
   emit_material_table(out, s, sim);
   out << YAML::Key << "stable_dt" << YAML::Value << num(sim.critical_dt());
   out << YAML::Key << "dt" << YAML::Value << num(sim.dt());
   out << YAML::Key << "steps" << YAML::Value << planned_steps(s, sim.dt());
   out << YAML::Key << "end_time" << YAML::Value
       << num(static_cast<double>(planned_steps(s, sim.dt())) * sim.dt());
-  out << YAML::Key << "estimated_memory_mb" << YAML::Value << num(estimated_memory_bytes(sim) / 1e6);
+  out << YAML::Key << "estimated_memory_mb" << YAML::Value
+      << num(estimated_memory_bytes(sim) / 1e6);
   out << YAML::EndMap << YAML::EndMap;
   return std::string(out.c_str()) + "\n";
 }

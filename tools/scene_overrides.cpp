@@ -78,7 +78,8 @@ std::string assign(YAML::Node node, const std::vector<std::string>& parts, const
     const std::string& part = parts[i];
     if (node.IsSequence()) {
       const std::size_t index = list_index(node, part, prefix, path);
-      prefix += (prefix.empty() ? "" : ".") + std::to_string(index);
+      if (!prefix.empty()) prefix += '.';
+      prefix += std::to_string(index);
       if (last) {
         node[index] = value;
       } else {

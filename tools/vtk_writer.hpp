@@ -37,7 +37,8 @@ struct Frame {
   double time = 0.0;
   std::int64_t step = -1;
   std::vector<double> points;  ///< 3 per particle
-  std::map<std::string, std::pair<int, std::vector<double>>> fields;  ///< name → (components, values)
+  std::map<std::string, std::pair<int, std::vector<double>>>
+      fields;                                      ///< name → (components, values)
   std::map<std::string, std::string> field_types;  ///< name → VTK data type name ("double", "int")
 };
 Frame read_frame(const std::string& vtu_path);
