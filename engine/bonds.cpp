@@ -1,5 +1,6 @@
 // Bond and dual-bond construction (dhpd.md §1, §6 linear rule = CMAME 2017 eq. A.1, §7 pre-cracks).
 #include "engine/bonds.hpp"
+#include "engine/parallel.hpp"
 
 #include <cmath>
 #include <numeric>
@@ -63,7 +64,7 @@ BondList build_bonds(const ParticleStore& p, PartialVolume rule,
   BondList b;
   b.offset.assign(n + 1, 0);
   // Pass 1: count each row (parallel, independent rows).
-#pragma omp parallel
+#pragma omp parallel if (static_cast <std::int64_t>(n) >= kParallelMinParticles)
   {
     std::vector<std::int32_t> cand;
 #pragma omp for schedule(dynamic, 256)
@@ -82,7 +83,7 @@ BondList build_bonds(const ParticleStore& p, PartialVolume rule,
   b.weight.resize(nb);
   b.intact.assign(nb, 1);
   // Pass 2: fill each row at its offset (same candidates, same order: deterministic).
-#pragma omp parallel
+#pragma omp parallel if (static_cast <std::int64_t>(n) >= kParallelMinParticles)
   {
     std::vector<std::int32_t> cand;
     std::vector<double> len, w;

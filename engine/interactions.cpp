@@ -1,5 +1,6 @@
 // Interaction rows from bonds and dual bonds (IJNME 2016 eq. 27; CMAME 2017 §3, eq. 5).
 #include "engine/interactions.hpp"
+#include "engine/parallel.hpp"
 
 namespace dhpd {
 
@@ -22,7 +23,8 @@ InteractionList build_interactions(ForceModel model, const BondList& bonds, cons
   il.coefficient.resize(total);
   il.own_slot.resize(bonds.size());
   il.dual_slot.assign(bonds.size(), -1);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (static_cast <std::int64_t>(n) >= \
+                                              kParallelMinParticles)
   for (std::int64_t i = 0; i < static_cast<std::int64_t>(n); ++i) {
     std::int64_t k = il.offset[i];
     for (auto b = bonds.offset[i]; b < bonds.offset[i + 1]; ++b, ++k) {

@@ -1,5 +1,6 @@
 // Bond loops (dhpd.md §3, §5, §7). Hot loops: flat arrays, no allocation, no virtual calls.
 #include "engine/kernels.hpp"
+#include "engine/parallel.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -17,7 +18,7 @@ void force_rows(const InteractionList& il, ParticleStore& p) {
   const std::int32_t* other = il.other.data();
   const double* inv_len = il.inv_length.data();
   const double* coef = il.coefficient.data();
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n >= kParallelMinParticles)
   for (std::int64_t i = 0; i < n; ++i) {
     double yi[Dim], acc[Dim];
     for (int a = 0; a < Dim; ++a) yi[a] = y[a][i], acc[a] = 0.0;
@@ -48,7 +49,7 @@ std::int64_t break_rows(BondList& bonds, InteractionList& il, const ParticleStor
                         const std::vector<double>& s0) {
   const auto n = static_cast<std::int64_t>(p.size());
   std::int64_t broken = 0;
-#pragma omp parallel for schedule(static) reduction(+ : broken)
+#pragma omp parallel for schedule(static) reduction(+ : broken) if (n >= kParallelMinParticles)
   for (std::int64_t i = 0; i < n; ++i) {
     if (p.no_fail[i]) continue;
     const double limit = s0[i];
@@ -71,7 +72,7 @@ void energy_rows(const BondList& bonds, const ParticleStore& p, const std::vecto
                  std::vector<double>& out) {
   const auto n = static_cast<std::int64_t>(p.size());
   out.assign(p.size(), 0.0);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n >= kParallelMinParticles)
   for (std::int64_t i = 0; i < n; ++i) {
     double w = 0.0;
     for (auto b = bonds.offset[i]; b < bonds.offset[i + 1]; ++b) {
@@ -123,7 +124,7 @@ void strain_energy_density(const BondList& bonds, const ParticleStore& p,
 
 void compute_damage(const BondList& bonds, ParticleStore& p) {
   const auto n = static_cast<std::int64_t>(p.size());
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n >= kParallelMinParticles)
   for (std::int64_t i = 0; i < n; ++i) {
     double all = 0.0, intact = 0.0;
     for (auto b = bonds.offset[i]; b < bonds.offset[i + 1]; ++b) {
@@ -138,7 +139,7 @@ void compute_damage(const BondList& bonds, ParticleStore& p) {
 double critical_time_step(const InteractionList& il, const ParticleStore& p) {
   double dt = std::numeric_limits<double>::infinity();
   const auto n = static_cast<std::int64_t>(p.size());
-#pragma omp parallel for schedule(static) reduction(min : dt)
+#pragma omp parallel for schedule(static) reduction(min : dt) if (n >= kParallelMinParticles)
   for (std::int64_t i = 0; i < n; ++i) {
     double stiffness = 0.0;
     for (auto k = il.offset[i]; k < il.offset[i + 1]; ++k)

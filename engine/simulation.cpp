@@ -1,5 +1,6 @@
 // Set-up and velocity-Verlet stepping of bond-based DH-PD (dhpd.md §3–5, §7).
 #include "engine/simulation.hpp"
+#include "engine/parallel.hpp"
 
 #include <fmt/core.h>
 #include <algorithm>
@@ -104,7 +105,7 @@ void Simulation::step() {
   double body_work = 0.0;
   {
     auto t = timers_.scope(Phase::Integrate);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n >= kParallelMinParticles)
     for (std::int64_t i = 0; i < n; ++i)
       for (int a = 0; a < dim; ++a) p_.velocity[a][i] += h * p_.force_density[a][i] / p_.density[i];
     enforce_prescribed_velocity();
@@ -113,7 +114,7 @@ void Simulation::step() {
       for (int a = 0; a < dim; ++a)
         body_work += loads_.body_force[k][a] * p_.velocity[a][i] * dt_ * p_.volume[i];
     }
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n >= kParallelMinParticles)
     for (std::int64_t i = 0; i < n; ++i)
       for (int a = 0; a < dim; ++a) {
         p_.displacement[a][i] += dt_ * p_.velocity[a][i];
@@ -127,7 +128,7 @@ void Simulation::step() {
   compute_forces();
   {
     auto t = timers_.scope(Phase::Integrate);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n >= kParallelMinParticles)
     for (std::int64_t i = 0; i < n; ++i)
       for (int a = 0; a < dim; ++a) p_.velocity[a][i] += h * p_.force_density[a][i] / p_.density[i];
     enforce_prescribed_velocity();
