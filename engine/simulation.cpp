@@ -133,12 +133,28 @@ void Simulation::step() {
       for (int a = 0; a < dim; ++a) p_.velocity[a][i] += h * p_.force_density[a][i] / p_.density[i];
     enforce_prescribed_velocity();
   }
+  if (!state_is_finite())
+    throw InstabilityError(fmt::format(
+        "the state became non-finite (NaN/Inf) at step {} (t = {:.6g} s); reduce time.safety or "
+        "time.dt, or check the loads",
+        steps_ + 1, time_ + dt_));
   const double power = boundary_power();
   external_work_ += body_work + 0.5 * dt_ * (power + last_power_);
   last_power_ = power;
   time_ += dt_;
   ++steps_;
   interaction_updates_ += static_cast<std::int64_t>(il_.size());
+}
+
+bool Simulation::state_is_finite() const {
+  // A NaN or Inf anywhere reaches the velocities within a step. v · 0 is 0 for every finite v
+  // and NaN for NaN or Inf, so the sum is NaN exactly when some velocity is not finite.
+  const auto n = static_cast<std::int64_t>(p_.size());
+  double sum = 0.0;
+#pragma omp parallel for schedule(static) reduction(+ : sum) if (n >= kParallelMinParticles)
+  for (std::int64_t i = 0; i < n; ++i)
+    for (int a = 0; a < p_.dim(); ++a) sum += p_.velocity[a][i] * 0.0;
+  return std::isfinite(sum);
 }
 
 Energies Simulation::energies() {

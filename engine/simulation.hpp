@@ -87,6 +87,7 @@ class Simulation {
   void compute_forces();
   void enforce_prescribed_velocity();
   double boundary_power() const;
+  bool state_is_finite() const;
 
   SimulationSetup setup_;
   ParticleStore p_;

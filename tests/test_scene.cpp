@@ -123,6 +123,21 @@ TEST(SceneOverrides, LaterOverrideWinsAndWholeMapReplaced) {
   EXPECT_EQ(s.model, ForceModel::ClassicalVariable);
 }
 
+TEST(SceneOverrides, StepsReplaceEndAndEveryReplacesFrames) {
+  const std::string text = std::string(kMinimal) + "output: {frames: 4}\n";
+  const Scene s = parse_scene(text, "min.yaml", {{"time.steps", "5"}, {"output.every", "2"}});
+  EXPECT_EQ(s.time.steps, 5);
+  EXPECT_FALSE(s.time.end.has_value());
+  EXPECT_EQ(s.output.every, 2);
+  EXPECT_FALSE(s.output.frames.has_value());
+  const Scene back = parse_scene(text, "min.yaml", {{"time.steps", "5"}, {"time.end", "0.5"}});
+  EXPECT_EQ(back.time.end, 0.5);
+  EXPECT_FALSE(back.time.steps.has_value());
+  // In the file itself, both of a pair stay an error.
+  EXPECT_THROW(parse_scene(std::string(kMinimal) + "output: {frames: 4, every: 2}\n", "min.yaml"),
+               InputError);
+}
+
 TEST(SceneOverrides, ParseOverrideSplitsAtFirstEquals) {
   const Override o = parse_override("output.directory=a=b");
   EXPECT_EQ(o.path, "output.directory");

@@ -152,8 +152,10 @@ void run_scene(const scene::Scene& s, const RunOptions& opt) {
   const std::int64_t steps = scene::planned_steps(s, sim->dt());
   const fs::path dir = opt.output_directory.value_or(s.output.directory);
   fs::create_directories(dir);
+  auto resolved = s;
+  resolved.output.directory = dir.string();  // where this run really writes
   write_text(dir / "scene.resolved.yaml",
-             scene::resolved_yaml(s) + "---\n" + scene::derived_yaml(s, *sim));
+             scene::resolved_yaml(resolved) + "---\n" + scene::derived_yaml(s, *sim));
   if (opt.echo) log_start(s, *sim, steps, dir);
   const auto particles_start = static_cast<std::int64_t>(sim->particles().size());
   RunContext ctx{s,

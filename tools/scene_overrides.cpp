@@ -1,5 +1,6 @@
 // `--set key.path=value`: replaces one node of the scene tree before it is read and checked.
 #include <fmt/format.h>
+#include <array>
 
 #include <algorithm>
 #include <cctype>
@@ -109,6 +110,23 @@ std::string assign(YAML::Node node, const std::vector<std::string>& parts, const
   return prefix;
 }
 
+/// Keys that exclude each other: setting one by override drops the other, so that
+/// `--set time.steps=50` shortens a scene that gives `time.end` (and `output.every` replaces
+/// `output.frames`) instead of being refused as "both given".
+void drop_exclusive_sibling(YAML::Node& root, const std::string& path) {
+  static constexpr std::array<std::array<const char*, 3>, 4> kExclusive = {{
+      {"time.steps", "time", "end"},
+      {"time.end", "time", "steps"},
+      {"output.every", "output", "frames"},
+      {"output.frames", "output", "every"},
+  }};
+  for (const auto& [set, parent, other] : kExclusive) {
+    if (path != set) continue;
+    YAML::Node map = root[parent];
+    if (map.IsMap() && map[other]) map.remove(other);
+  }
+}
+
 }  // namespace
 
 std::vector<std::string> apply_overrides(YAML::Node& root, const std::vector<Override>& overrides) {
@@ -123,6 +141,7 @@ std::vector<std::string> apply_overrides(YAML::Node& root, const std::vector<Ove
            fmt::format("cannot read the value '{}' as YAML: {}", override_item.value, e.msg));
     }
     paths.push_back(assign(root, parts, value, override_item.path));
+    drop_exclusive_sibling(root, paths.back());
   }
   return paths;
 }
