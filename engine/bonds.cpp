@@ -1,23 +1,51 @@
-// Bond and dual-bond construction (dhpd.md §1, §6 linear rule = CMAME 2017 eq. A.1, §7 pre-cracks).
+// Bond and dual-bond construction (dhpd.md §1; §6 = CMAME 2017 eq. A.1 and App. A; §7 pre-cracks).
 #include "engine/bonds.hpp"
 #include "engine/parallel.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numeric>
 
 #include "engine/errors.hpp"
 #include "engine/neighbor_search.hpp"
+#include "geometry/intersection.hpp"
 
 namespace dhpd {
 
-double partial_volume_factor(PartialVolume rule, double distance, double horizon, double r_j) {
+double partial_volume_factor(PartialVolume rule, int dim, double distance, double horizon,
+                             double r_j) {
+  if (rule == PartialVolume::Exact)
+    return geometry::partial_volume_fraction(dim, distance, horizon, r_j);
   if (distance > horizon) return 0.0;
   if (rule == PartialVolume::None) return 1.0;
   if (distance <= horizon - r_j) return 1.0;
   return (horizon + r_j - distance) / (2.0 * r_j);
 }
 
+void set_particle_radii(ParticleStore& p, const Section& section) {
+  for (std::size_t i = 0; i < p.size(); ++i)
+    p.radius[i] = section.equal_measure_radius(p.volume[i]);
+}
+
 namespace {
+
+/// The rule and how far past δ_i a neighbour can still overlap the horizon (r_max for exact).
+struct Rule {
+  PartialVolume pv;
+  double reach;
+};
+
+Rule make_rule(const ParticleStore& p, PartialVolume pv) {
+  if (pv != PartialVolume::Exact) return {pv, 0.0};
+  double r_max = 0.0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (!(p.radius[i] > 0.0))
+      throw EngineError(
+          "partial_volume exact needs every particle radius > 0 (set_particle_radii)");
+    r_max = std::max(r_max, p.radius[i]);
+  }
+  return {pv, r_max};
+}
 
 bool crosses_any(const std::vector<geometry::Crack>& cracks, const geometry::Vec3& a,
                  const geometry::Vec3& b, int dim) {
@@ -31,12 +59,12 @@ geometry::Vec3 point(const VectorArray& x, std::size_t i) {
 }
 
 /// Candidates of owner i that become bonds, with their lengths and weights.
-void bonds_of(std::size_t i, const ParticleStore& p, PartialVolume rule,
+void bonds_of(std::size_t i, const ParticleStore& p, const Rule& rule,
               const std::vector<geometry::Crack>& cracks, const NeighborSearch& search,
               std::vector<std::int32_t>& cand, std::vector<double>* len, std::vector<double>* w) {
   const auto& X = p.reference_position;
   const double delta = p.horizon[i];
-  search.within(i, delta * (1.0 + 1e-9), cand);
+  search.within(i, (delta + rule.reach) * (1.0 + 1e-9), cand);
   std::size_t kept = 0;
   const auto xi = point(X, i);
   for (const auto j : cand) {
@@ -46,7 +74,8 @@ void bonds_of(std::size_t i, const ParticleStore& p, PartialVolume rule,
       d2 += d * d;
     }
     const double dist = std::sqrt(d2);
-    const double beta = partial_volume_factor(rule, dist, delta, 0.5 * p.spacing[j]);
+    const double r_j = rule.pv == PartialVolume::Exact ? p.radius[j] : 0.5 * p.spacing[j];
+    const double beta = partial_volume_factor(rule.pv, p.dim(), dist, delta, r_j);
     if (beta <= 0.0 || dist == 0.0) continue;
     if (!cracks.empty() && crosses_any(cracks, xi, point(X, j), p.dim())) continue;
     cand[kept++] = j;
@@ -57,9 +86,10 @@ void bonds_of(std::size_t i, const ParticleStore& p, PartialVolume rule,
 
 }  // namespace
 
-BondList build_bonds(const ParticleStore& p, PartialVolume rule,
+BondList build_bonds(const ParticleStore& p, PartialVolume pv,
                      const std::vector<geometry::Crack>& cracks) {
   const std::size_t n = p.size();
+  const Rule rule = make_rule(p, pv);
   NeighborSearch search(p.reference_position, p.dim());
   BondList b;
   b.offset.assign(n + 1, 0);

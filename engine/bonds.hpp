@@ -1,6 +1,7 @@
 // Bonds in flat CSR per owner plus the dual-horizon lists (dhpd.md §1, §6, §7).
-// Bond b (owner i, neighbour j) is created for every j in H_i with β_ij > 0 whose reference
-// segment crosses no crack. The dual list of j holds the ids of the bonds others own on j.
+// Bond b (owner i, neighbour j) is created for every j with β_ij > 0 whose reference segment
+// crosses no crack: j in H_i for none/linear, and up to δ_i + r_j for exact (a particle partly
+// inside the horizon). The dual list of j holds the ids of the bonds others own on j.
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -30,10 +31,16 @@ struct DualList {
   std::vector<BondId> bond;          ///< ids of bonds i→j owned by others, sorted by id
 };
 
-/// Partial-volume factor β for a neighbour at distance `distance` with radius r_j (dhpd.md §6).
-double partial_volume_factor(PartialVolume rule, double distance, double horizon, double r_j);
+/// Partial-volume factor β for a neighbour at distance `distance` with radius r_j (dhpd.md §6):
+/// r_j = Δx_j/2 for linear, the equal-measure radius for exact; unused by none.
+double partial_volume_factor(PartialVolume rule, int dim, double distance, double horizon,
+                             double r_j);
 
-/// Builds every particle's bonds from the reference positions, horizons and spacings.
+/// Fills p.radius with each particle's equal-measure radius (Section::equal_measure_radius).
+void set_particle_radii(ParticleStore& p, const Section& section);
+
+/// Builds every particle's bonds from the reference positions, horizons and spacings (and, for
+/// exact partial volumes, the radii: every radius must be > 0).
 BondList build_bonds(const ParticleStore& particles, PartialVolume rule,
                      const std::vector<geometry::Crack>& cracks);
 

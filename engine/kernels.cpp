@@ -136,6 +136,17 @@ void compute_damage(const BondList& bonds, ParticleStore& p) {
   }
 }
 
+void horizon_quadrature(const BondList& bonds, const ParticleStore& p, const Section& section,
+                        std::vector<double>& out) {
+  out.assign(p.size(), 0.0);
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    double sum = p.volume[i];
+    for (auto b = bonds.offset[i]; b < bonds.offset[i + 1]; ++b)
+      sum += bonds.weight[b] * p.volume[bonds.neighbor[b]];
+    out[i] = sum / section.horizon_volume(p.horizon[i]);
+  }
+}
+
 double critical_time_step(const InteractionList& il, const ParticleStore& p) {
   double dt = std::numeric_limits<double>::infinity();
   const auto n = static_cast<std::int64_t>(p.size());

@@ -1,5 +1,6 @@
 // Per-step loops over bonds: internal force, bond breaking, damage, strain energy, stable step.
-// Formulas: dhpd.md §3 (force), §5 (stable step), §7 (damage); IJNME 2016 eqs. 27, 44.
+// Formulas: dhpd.md §3 (force), §5 (stable step), §6 (quadrature), §7 (damage); IJNME 2016 eqs.
+// 27, 44.
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -25,6 +26,12 @@ void compute_damage(const BondList& bonds, ParticleStore& p);
 /// Strain-energy density of each particle from its own bonds: W_i = Σ_j ½ C_i β s² |ξ| V_j.
 void strain_energy_density(const BondList& bonds, const ParticleStore& p,
                            const std::vector<double>& micromodulus, std::vector<double>& out);
+
+/// Quadrature diagnostic (V_i + Σ_{j∈H_i} β_ij V_j) / |ball(δ_i)| (dhpd.md §6), over all own
+/// bonds of the reference configuration (broken ones included; pre-cracked pairs have no bond).
+/// 1 for a perfect quadrature of an interior particle's horizon.
+void horizon_quadrature(const BondList& bonds, const ParticleStore& p, const Section& section,
+                        std::vector<double>& out);
 
 /// Largest stable step per dhpd.md §5: min_i sqrt(2 ρ_i / Σ_k K_k β_k V_k / |ξ_k|) (no safety).
 double critical_time_step(const InteractionList& il, const ParticleStore& p);

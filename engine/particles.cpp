@@ -12,6 +12,7 @@ std::vector<FieldInfo> ParticleStore::fields() {
       {"spacing", G::Geometry, S::FromPattern, &spacing},
       {"horizon", G::Geometry, S::FromPattern, &horizon},
       {"density", G::Geometry, S::Copy, &density},
+      {"radius", G::Geometry, S::FromPattern, &radius},
       {"material", G::Geometry, S::Copy, &material},
       {"id", G::Geometry, S::FromPattern, &id},
       {"no_fail", G::Geometry, S::Copy, &no_fail},

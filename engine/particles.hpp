@@ -39,6 +39,7 @@ class ParticleStore {
   // Geometry (reference configuration; rewritten only by refinement).
   VectorArray reference_position;
   ScalarArray volume, spacing, horizon, density;
+  ScalarArray radius;  ///< equal-measure radius r_i of the particle (exact partial volumes)
   IndexArray material, id;
   FlagArray no_fail;
   // State (advanced every step).

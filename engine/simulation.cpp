@@ -63,6 +63,7 @@ void Simulation::init_particles() {
     for (const auto& box : setup_.no_fail)
       if (box.contains(x, setup_.section.dim)) p_.no_fail[i] = 1;
   }
+  set_particle_radii(p_, setup_.section);
   for (const auto& ic : setup_.initial_conditions) apply_initial_condition(ic, p_);
 }
 

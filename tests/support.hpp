@@ -51,6 +51,9 @@ inline ParticleStore random_cloud(int dim, std::size_t n, double h, double ratio
       p.position[a][i] = p.reference_position[a][i] + p.displacement[a][i];
     }
   }
+  Section s;
+  s.dim = dim;
+  set_particle_radii(p, s);
   return p;
 }
 
@@ -69,6 +72,7 @@ inline ParticleStore lattice_store(int dim, int cells, double dx, double factor,
     p.density[i] = 1000.0;
     p.id[i] = static_cast<std::int32_t>(i);
   }
+  set_particle_radii(p, s);
   return p;
 }
 

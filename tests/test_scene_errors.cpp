@@ -111,9 +111,9 @@ const std::vector<BadScene> kBadScenes = {
     {"UnknownModelWord", plus("model: dual-horizons"),
      "bad.yaml:8: model: unknown model 'dual-horizons', did you mean 'dual-horizon'? (allowed: "
      "dual-horizon, constant-horizon, classical-variable)"},
-    {"PartialVolumeExact", plus("partial_volume: exact"),
-     "bad.yaml:8: partial_volume: partial_volume 'exact' is not available yet (allowed: none, "
-     "linear)"},
+    {"PartialVolumeUnknownWord", plus("partial_volume: exakt"),
+     "bad.yaml:8: partial_volume: unknown partial_volume 'exakt', did you mean 'exact'? (allowed: "
+     "none, linear, exact)"},
     {"CrackWithThreePoints2D", plus("cracks:\n  - [[0, 0.5], [0.5, 0.5], [0.7, 0.5]]"),
      "bad.yaml:9: cracks.0: expected a list of 2 end points"},
     {"CrackNotPlanar3D",

@@ -61,6 +61,11 @@ PointField one_field(Simulation& sim, const std::string& name) {
     strain_energy_density(sim.bonds(), p, sim.micromodulus(), w);
     return scalar_field(name, w);
   }
+  if (name == "quadrature") {
+    std::vector<double> q;
+    horizon_quadrature(sim.bonds(), p, sim.setup().section, q);
+    return scalar_field(name, q);
+  }
   throw EngineError("unknown output field '" + name + "'");
 }
 

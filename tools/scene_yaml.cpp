@@ -19,8 +19,8 @@ const std::vector<std::string>& default_fields() {
 
 const std::vector<std::string>& optional_fields() {
   static const std::vector<std::string> fields{
-      "strain_energy_density", "force_density",   "bond_count", "dual_count", "no_fail",
-      "micromodulus",          "critical_stretch"};
+      "strain_energy_density", "force_density",    "bond_count", "dual_count", "no_fail",
+      "micromodulus",          "critical_stretch", "quadrature"};
   return fields;
 }
 
@@ -157,10 +157,11 @@ void read_discretisation(const MapView& top, Scene& s) {
     s.model = models[model->choice(words)];
   }
   if (const auto pv = top.get("partial_volume")) {
-    const std::vector<std::string> words{"none", "linear"};
-    if (pv->node().IsScalar() && pv->node().Scalar() == "exact")
-      pv->fail("partial_volume 'exact' is not available yet", detail::join(words));
-    s.partial_volume = pv->choice(words) == 0 ? PartialVolume::None : PartialVolume::Linear;
+    const std::vector<PartialVolume> rules{PartialVolume::None, PartialVolume::Linear,
+                                           PartialVolume::Exact};
+    std::vector<std::string> words;
+    for (const auto r : rules) words.emplace_back(to_string(r));
+    s.partial_volume = rules[pv->choice(words)];
   }
 }
 
