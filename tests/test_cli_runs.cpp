@@ -129,6 +129,21 @@ TEST_F(CliTest, ThreadCountDoesNotChangeTheOutput) {
   EXPECT_EQ(a.fields, b.fields);
 }
 
+TEST_F(CliTest, ExactPartialVolumeRunsAndWritesTheQuadratureField) {
+  const auto dir = run_plate(
+      "exact", {}, {"partial_volume=exact", "output.fields=[quadrature]", "time.steps=20"});
+  const std::string text = read_text(dir / "scene.resolved.yaml");
+  ASSERT_NE(text.find("partial_volume: exact\n"), std::string::npos) << text;
+  const auto resolved = dhpd::scene::parse_scene(text.substr(0, text.find("\n---\n") + 1), "r");
+  EXPECT_EQ(resolved.partial_volume, dhpd::PartialVolume::Exact);
+  const auto frame = dhpd::io::read_frame((dir / "plate_000001.vtu").string());
+  const auto& q = frame.fields.at("quadrature").second;
+  ASSERT_EQ(q.size(), static_cast<std::size_t>(kPlateParticles));
+  // Interior particles are within 1.5 % of 1; edge and corner particles see less of a horizon.
+  EXPECT_NEAR(*std::max_element(q.begin(), q.end()), 1.0, 0.015);
+  EXPECT_GT(*std::min_element(q.begin(), q.end()), 0.2);
+}
+
 TEST_F(CliTest, OverflowingRunStopsWithExitThree) {
   // A dt above the stable step is refused, so blow the state up instead: a velocity pulse of
   // 1e150 m/s has a finite kinetic energy, but the forces of the first step overflow. The
