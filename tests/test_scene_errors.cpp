@@ -71,7 +71,9 @@ const std::vector<BadScene> kBadScenes = {
      "bad.yaml:6: body.0.min: expected a list of 2 numbers (one per axis), got 3 items"},
     {"UnknownShape",
      replace_line(6, "  - {shape: ball, min: [0, 0], max: [1, 1], spacing: 0.1, material: glass}"),
-     "bad.yaml:6: body.0.shape: unknown shape 'ball' (allowed: box)"},
+     "bad.yaml:6: body.0.shape: unknown shape 'ball' (allowed: box, disk, polygon, half-space, "
+     "union, "
+     "difference)"},
     {"MaterialNotDefined",
      replace_line(6, "  - {shape: box, min: [0, 0], max: [1, 1], spacing: 0.1, material: glas}"),
      "bad.yaml:6: body.0.material: material 'glas' is not defined in materials, did you mean "
