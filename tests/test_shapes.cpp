@@ -141,6 +141,7 @@ TEST(Shapes, PlateWithHoleMatchesBruteForce) {
       expected += (x - centre[0]) * (x - centre[0]) + (y - centre[1]) * (y - centre[1]) > r * r;
     }
   EXPECT_EQ(pts.size(), expected);
+  EXPECT_EQ(pts.size(), 3668u);
   EXPECT_LT(pts.size(), 4000u - 300u);  // about π r² / h² = 346 points removed
   for (const auto& x : pts.position) EXPECT_GT(norm(x - centre), r);
 }
@@ -199,6 +200,7 @@ TEST(Inclusions, BondsOwnedByInclusionParticlesUseTheInclusionMaterial) {
     }
   }
   EXPECT_EQ(steel, expected);
+  EXPECT_EQ(steel, 224u);
   EXPECT_GT(steel, 2u * 100u);  // π (3 mm)² / (0.5 mm)² ≈ 113 per disk
   EXPECT_GT(steel_owned, 0u);
   EXPECT_GT(mixed, 0u);
