@@ -146,6 +146,32 @@ TEST(Shapes, PlateWithHoleMatchesBruteForce) {
   for (const auto& x : pts.position) EXPECT_GT(norm(x - centre), r);
 }
 
+TEST(Shapes, LaterPartWinsInsideItsShapeOnly) {
+  // A fine disk over a coarse box: coarse points inside the disk go, those in the disk's bounding
+  // box but outside the disk stay.
+  const Shape disk = Shape::ball({0.5, 0.5, 0}, 0.2);
+  const auto pts = fill_lattice({{Box{{0, 0, 0}, {1, 1, 0}}, 0.1, 0}, {disk, 0.02, 1}}, 2);
+  std::size_t coarse = 0, fine = 0, coarse_kept_in_bounds = 0;
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    const bool in_disk = disk.contains(pts.position[i], 2);
+    if (pts.part[i] == 0) {
+      ++coarse;
+      EXPECT_FALSE(in_disk);
+      coarse_kept_in_bounds += disk.bounds(2).contains(pts.position[i], 2);
+    } else {
+      ++fine;
+      EXPECT_TRUE(in_disk);
+    }
+  }
+  std::size_t expected_coarse = 0;
+  for (int j = 0; j < 10; ++j)
+    for (int i = 0; i < 10; ++i)
+      expected_coarse += !disk.contains({(i + 0.5) * 0.1, (j + 0.5) * 0.1, 0}, 2);
+  EXPECT_EQ(coarse, expected_coarse);
+  EXPECT_GT(coarse_kept_in_bounds, 0u);
+  EXPECT_GT(fine, 300u);  // π 0.2² / 0.02² ≈ 314
+}
+
 }  // namespace
 }  // namespace dhpd::geometry
 
