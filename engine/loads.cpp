@@ -11,7 +11,7 @@
 
 namespace dhpd {
 
-std::vector<std::int32_t> select(const ParticleStore& p, const geometry::Box& region) {
+std::vector<std::int32_t> select(const ParticleStore& p, const geometry::Shape& region) {
   std::vector<std::int32_t> out;
   const auto& X = p.reference_position;
   for (std::size_t i = 0; i < p.size(); ++i)

@@ -13,7 +13,7 @@ namespace dhpd {
 using geometry::Vec3;
 
 struct InitialCondition {
-  geometry::Box region;
+  geometry::Shape region;
   std::optional<Vec3> velocity;
   std::optional<Vec3> displacement;
   std::optional<Vec3> strain;  ///< u_a += strain_a · (X_a − origin_a): a uniform stretch
@@ -26,7 +26,7 @@ struct InitialCondition {
 struct BoundaryCondition {
   enum class Kind { Velocity, Fixed, Traction };
   Kind kind = Kind::Fixed;
-  geometry::Box region;
+  geometry::Shape region;
   std::array<std::optional<double>, 3> velocity;  ///< prescribed components (Velocity)
   Vec3 traction{0, 0, 0};  ///< Pa, spread as a body force over the layer (Traction)
   int normal_axis = 0;     ///< axis normal to the loaded face (Traction)
@@ -42,7 +42,7 @@ struct ResolvedLoads {
 };
 
 /// Particles of `p` inside `region` (reference positions).
-std::vector<std::int32_t> select(const ParticleStore& p, const geometry::Box& region);
+std::vector<std::int32_t> select(const ParticleStore& p, const geometry::Shape& region);
 
 void apply_initial_condition(const InitialCondition& ic, ParticleStore& p);
 

@@ -60,8 +60,8 @@ void Simulation::init_particles() {
     C_[i] = dhpd::micromodulus(mat, setup_.section, p_.horizon[i]);
     s0_[i] = mat.G0 > 0 ? dhpd::critical_stretch(mat, setup_.section, p_.horizon[i]) : HUGE_VAL;
     const geometry::Vec3 x = pts.position[i];
-    for (const auto& box : setup_.no_fail)
-      if (box.contains(x, setup_.section.dim)) p_.no_fail[i] = 1;
+    for (const auto& region : setup_.no_fail)
+      if (region.contains(x, setup_.section.dim)) p_.no_fail[i] = 1;
   }
   set_particle_radii(p_, setup_.section);
   for (const auto& ic : setup_.initial_conditions) apply_initial_condition(ic, p_);

@@ -30,7 +30,7 @@ struct SimulationSetup {
   std::vector<Material> materials;
   geometry::PointSet points;  ///< positions, cell measures, spacings, material indices
   std::vector<geometry::Crack> cracks;
-  std::vector<geometry::Box> no_fail;
+  std::vector<geometry::Shape> no_fail;
   std::vector<InitialCondition> initial_conditions;
   std::vector<BoundaryCondition> boundary_conditions;
   Effects effects;

@@ -10,8 +10,9 @@ namespace dhpd::geometry {
 
 std::array<std::int64_t, 3> lattice_cells(const LatticePart& part, int dim) {
   std::array<std::int64_t, 3> n{1, 1, 1};
+  const Box box = part.shape.bounds(dim);
   for (int a = 0; a < dim; ++a) {
-    const double cells = (part.box.max[a] - part.box.min[a]) / part.spacing;
+    const double cells = (box.max[a] - box.min[a]) / part.spacing;
     // A part whose length is a whole number of cells (to round-off) gets exactly that many.
     const double rounded = std::round(cells);
     n[a] = std::abs(cells - rounded) < 1e-9 * std::max(1.0, cells)
@@ -27,6 +28,7 @@ PointSet fill_lattice(const std::vector<LatticePart>& parts, int dim) {
   for (std::size_t p = 0; p < parts.size(); ++p) {
     const auto& part = parts[p];
     const auto n = lattice_cells(part, dim);
+    const Box box = part.shape.bounds(dim);
     const double measure = std::pow(part.spacing, dim);
     for (std::int64_t k = 0; k < n[2]; ++k)
       for (std::int64_t j = 0; j < n[1]; ++j)
@@ -34,10 +36,11 @@ PointSet fill_lattice(const std::vector<LatticePart>& parts, int dim) {
           const std::int64_t idx[3] = {i, j, k};
           Vec3 x{0, 0, 0};
           for (int a = 0; a < dim; ++a)
-            x[a] = part.box.min[a] + (static_cast<double>(idx[a]) + 0.5) * part.spacing;
+            x[a] = box.min[a] + (static_cast<double>(idx[a]) + 0.5) * part.spacing;
+          if (!part.shape.contains(x, dim)) continue;
           bool overridden = false;
           for (std::size_t q = p + 1; q < parts.size() && !overridden; ++q)
-            overridden = parts[q].box.contains(x, dim);
+            overridden = parts[q].shape.contains(x, dim);
           if (overridden) continue;
           out.position.push_back(x);
           out.cell_measure.push_back(measure);
@@ -47,6 +50,18 @@ PointSet fill_lattice(const std::vector<LatticePart>& parts, int dim) {
         }
   }
   return out;
+}
+
+std::vector<std::size_t> assign_materials(PointSet& points,
+                                          const std::vector<MaterialRegion>& regions, int dim) {
+  std::vector<std::size_t> selected(regions.size(), 0);
+  for (std::size_t r = 0; r < regions.size(); ++r)
+    for (std::size_t i = 0; i < points.size(); ++i)
+      if (regions[r].region.contains(points.position[i], dim)) {
+        points.material[i] = regions[r].material;
+        ++selected[r];
+      }
+  return selected;
 }
 
 namespace {

@@ -1,5 +1,5 @@
-// Point generation: a cell-centred lattice fills each body part; later parts win where they
-// overlap.
+// Point generation: a cell-centred lattice fills the bounding box of each body part and keeps the
+// points inside the part's shape; later parts win where they overlap.
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -9,7 +9,7 @@
 namespace dhpd::geometry {
 
 struct LatticePart {
-  Box box;
+  Shape shape;  ///< must be bounded
   double spacing = 0.0;
   int material = 0;
 };
@@ -24,12 +24,24 @@ struct PointSet {
   std::size_t size() const { return position.size(); }
 };
 
-/// Number of cells of `part` along each axis (round to nearest so that max−min = n·spacing is
-/// exact).
+/// A region of a body that takes another material (inclusions, CMAME 2017 §5.2).
+struct MaterialRegion {
+  Shape region;
+  int material = 0;
+};
+
+/// Number of cells of the part's bounding box along each axis (round to nearest so that
+/// max−min = n·spacing is exact).
 std::array<std::int64_t, 3> lattice_cells(const LatticePart& part, int dim);
 
-/// Points at min + (i + ½)·spacing; a point inside a later part's box is dropped (that part wins).
+/// Points at min + (i + ½)·spacing of each part's bounding box that lie inside its shape; a point
+/// inside a later part's shape is dropped (that part wins).
 PointSet fill_lattice(const std::vector<LatticePart>& parts, int dim);
+
+/// Gives the points inside each region that region's material; later regions win. Returns the
+/// number of points each region selected.
+std::vector<std::size_t> assign_materials(PointSet& points,
+                                          const std::vector<MaterialRegion>& regions, int dim);
 
 /// Permutation that sorts points along a Morton (Z-order) curve, so neighbours sit close in memory.
 std::vector<std::int32_t> morton_order(const std::vector<Vec3>& points, int dim);

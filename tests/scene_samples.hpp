@@ -60,4 +60,61 @@ body:
 time: {end: 1.0}
 )";
 
+// Every 2D shape: a plate with a hole and a notch, disk and polygon inclusions, half-space regions.
+inline constexpr const char* kShapeScene2D = R"(name: shapes-2d
+dimension: 2
+materials:
+  glass: {E: 72.0e9, rho: 2440, G0: 3.8}
+  steel: {E: 2.0e11, rho: 7850, G0: 1.0e4}
+body:
+  - shape: difference
+    of:
+      - {shape: box, min: [0, 0], max: [0.1, 0.04]}
+      - {shape: disk, center: [0.05, 0.02], radius: 0.005}
+      - {shape: polygon, points: [[0, 0.019], [0.01, 0.02], [0, 0.021]]}
+    spacing: 0.001
+    material: glass
+  - {shape: disk, center: [0.12, 0.02], radius: 0.015, spacing: 0.001, material: glass}
+material_regions:
+  - region: {shape: disk, center: [0.03, 0.01], radius: 0.004}
+    material: steel
+  - region:
+      shape: union
+      of:
+        - {shape: polygon, points: [[0.07, 0.025], [0.08, 0.025], [0.075, 0.035]]}
+        - {shape: disk, center: [0.12, 0.02], radius: 0.003}
+    material: steel
+no_fail:
+  - {shape: half-space, point: [0.095, 0], normal: [-1, 0]}
+initial_conditions:
+  - region: {shape: half-space, point: [0.05, 0], normal: [1, 0.5]}
+    velocity: [0, 1.0]
+boundary_conditions:
+  - region: {shape: difference, of: [{shape: box, min: [0, 0], max: [0.1, 0.04]}, {shape: half-space, point: [0, 0.002], normal: [0, 1]}]}
+    fixed: true
+time: {steps: 10}
+)";
+
+// The 3D shapes: a cylinder with a spherical cavity, a tilted cylinder inclusion.
+inline constexpr const char* kShapeScene3D = R"(name: shapes-3d
+dimension: 3
+materials:
+  g: {E: 1.0e9, rho: 1000}
+  h: {E: 5.0e9, rho: 2000}
+body:
+  - shape: difference
+    of:
+      - {shape: cylinder, center: [0, 0, 0], axis: [0, 0, 2], radius: 0.5, height: 1}
+      - {shape: sphere, center: [0, 0, 0.5], radius: 0.2}
+    spacing: 0.1
+    material: g
+material_regions:
+  - region: {shape: cylinder, center: [0, 0, 0], axis: [1, 1, 1], radius: 0.1, height: 0.4}
+    material: h
+boundary_conditions:
+  - region: {shape: half-space, point: [0, 0, 0.1], normal: [0, 0, 1]}
+    fixed: true
+time: {steps: 10}
+)";
+
 }  // namespace dhpd::scene::samples

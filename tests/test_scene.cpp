@@ -11,6 +11,8 @@ namespace {
 
 using samples::kFullScene;
 using samples::kMinimal;
+using samples::kShapeScene2D;
+using samples::kShapeScene3D;
 
 const std::string kBox3 = "{shape: box, min: [0, 0, 0], max: [1, 1, 1], spacing: 0.1, material: g}";
 
@@ -27,9 +29,9 @@ TEST(Scene, FullSceneParsesIntoTheExpectedValues) {
   EXPECT_EQ(s.materials[1].where.line, 7);
   EXPECT_EQ(s.materials[1].where.path, "materials.steel");
   ASSERT_EQ(s.body.size(), 2u);
-  EXPECT_DOUBLE_EQ(s.body[1].box.min[0], 0.1);
-  EXPECT_DOUBLE_EQ(s.body[1].box.max[1], 0.04);
-  EXPECT_DOUBLE_EQ(s.body[1].box.max[2], 0.0);
+  EXPECT_DOUBLE_EQ(s.body[1].shape.bounds(2).min[0], 0.1);
+  EXPECT_DOUBLE_EQ(s.body[1].shape.bounds(2).max[1], 0.04);
+  EXPECT_DOUBLE_EQ(s.body[1].shape.bounds(2).max[2], 0.0);
   EXPECT_DOUBLE_EQ(s.body[1].spacing, 0.0005);
   EXPECT_EQ(s.body[1].material, "steel");
   EXPECT_EQ(s.body[1].where.line, 14);
@@ -40,7 +42,7 @@ TEST(Scene, FullSceneParsesIntoTheExpectedValues) {
   ASSERT_EQ(s.cracks.size(), 1u);
   EXPECT_EQ(s.cracks[0].crack.points[1], (Vec3{0.05, 0.02, 0.0}));
   ASSERT_EQ(s.no_fail.size(), 1u);
-  EXPECT_DOUBLE_EQ(s.no_fail[0].box.min[0], 0.09);
+  EXPECT_DOUBLE_EQ(s.no_fail[0].shape.bounds(2).min[0], 0.09);
   ASSERT_EQ(s.initial_conditions.size(), 1u);
   const InitialCondition& ic = s.initial_conditions[0].ic;
   EXPECT_EQ(ic.velocity, (Vec3{1.0, 0.0, 0.0}));
@@ -105,7 +107,7 @@ TEST(SceneOverrides, CreateMissingKeysAndWholeValues) {
   EXPECT_EQ(s.time.end, 1.0);
   EXPECT_EQ(s.output.every, 7);
   EXPECT_EQ(s.output.fields, std::vector<std::string>{"bond_count"});
-  EXPECT_DOUBLE_EQ(s.body[0].box.max[1], 3.0);
+  EXPECT_DOUBLE_EQ(s.body[0].shape.bounds(2).max[1], 3.0);
 }
 
 TEST(SceneOverrides, FillAnEmptyMapOfTheFile) {
@@ -158,9 +160,8 @@ TEST(SceneFail, FormatsLocationAndAllowedList) {
   }
 }
 
-void expect_same_box(const geometry::Box& a, const geometry::Box& b) {
-  EXPECT_EQ(a.min, b.min);
-  EXPECT_EQ(a.max, b.max);
+void expect_same_shape(const geometry::Shape& a, const geometry::Shape& b) {
+  EXPECT_TRUE(a == b);
 }
 
 void expect_same_materials_and_body(const Scene& a, const Scene& b) {
@@ -173,9 +174,14 @@ void expect_same_materials_and_body(const Scene& a, const Scene& b) {
   }
   ASSERT_EQ(a.body.size(), b.body.size());
   for (std::size_t i = 0; i < a.body.size(); ++i) {
-    expect_same_box(a.body[i].box, b.body[i].box);
+    expect_same_shape(a.body[i].shape, b.body[i].shape);
     EXPECT_EQ(a.body[i].spacing, b.body[i].spacing);
     EXPECT_EQ(a.body[i].material, b.body[i].material);
+  }
+  ASSERT_EQ(a.material_regions.size(), b.material_regions.size());
+  for (std::size_t i = 0; i < a.material_regions.size(); ++i) {
+    expect_same_shape(a.material_regions[i].region, b.material_regions[i].region);
+    EXPECT_EQ(a.material_regions[i].material, b.material_regions[i].material);
   }
 }
 
@@ -185,11 +191,11 @@ void expect_same_regions(const Scene& a, const Scene& b) {
     EXPECT_EQ(a.cracks[i].crack.points, b.cracks[i].crack.points);
   ASSERT_EQ(a.no_fail.size(), b.no_fail.size());
   for (std::size_t i = 0; i < a.no_fail.size(); ++i)
-    expect_same_box(a.no_fail[i].box, b.no_fail[i].box);
+    expect_same_shape(a.no_fail[i].shape, b.no_fail[i].shape);
   ASSERT_EQ(a.initial_conditions.size(), b.initial_conditions.size());
   for (std::size_t i = 0; i < a.initial_conditions.size(); ++i) {
     const auto &x = a.initial_conditions[i].ic, &y = b.initial_conditions[i].ic;
-    expect_same_box(x.region, y.region);
+    expect_same_shape(x.region, y.region);
     EXPECT_EQ(x.velocity, y.velocity);
     EXPECT_EQ(x.displacement, y.displacement);
     EXPECT_EQ(x.strain, y.strain);
@@ -201,7 +207,7 @@ void expect_same_regions(const Scene& a, const Scene& b) {
   for (std::size_t i = 0; i < a.boundary_conditions.size(); ++i) {
     const auto &x = a.boundary_conditions[i].bc, &y = b.boundary_conditions[i].bc;
     EXPECT_EQ(x.kind, y.kind);
-    expect_same_box(x.region, y.region);
+    expect_same_shape(x.region, y.region);
     EXPECT_EQ(x.velocity, y.velocity);
     EXPECT_EQ(x.traction, y.traction);
     EXPECT_EQ(x.normal_axis, y.normal_axis);
@@ -259,7 +265,8 @@ INSTANTIATE_TEST_SUITE_P(
             "boundary_conditions:\n  - {region: {shape: box, min: [0, 0, 0], max: [1, 1, 0.1]}, "
             "velocity: {y: -0.5, z: 0.25}}\n  - {region: {shape: box, min: [0, 0, 0.9], "
             "max: [1, 1, 1]}, traction: [0, 0, 3e5], normal: z}\n"
-            "effects: {fracture: true}\ntime: {end: 3e-6}\n"));
+            "effects: {fracture: true}\ntime: {end: 3e-6}\n",
+        std::string(kShapeScene2D), std::string(kShapeScene3D)));
 
 TEST(SceneResolved, FillsDefaultsAndImpliedPoissonRatio) {
   const std::string text = resolved_yaml(parse_scene(kMinimal, "min.yaml"));

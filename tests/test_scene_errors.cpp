@@ -71,7 +71,77 @@ const std::vector<BadScene> kBadScenes = {
      "bad.yaml:6: body.0.min: expected a list of 2 numbers (one per axis), got 3 items"},
     {"UnknownShape",
      replace_line(6, "  - {shape: ball, min: [0, 0], max: [1, 1], spacing: 0.1, material: glass}"),
-     "bad.yaml:6: body.0.shape: unknown shape 'ball' (allowed: box)"},
+     "bad.yaml:6: body.0.shape: unknown shape 'ball' (allowed: box, disk, polygon, half-space, "
+     "union, "
+     "difference)"},
+    {"ShapeOfOtherDimension",
+     replace_line(6,
+                  "  - {shape: sphere, center: [0, 0], radius: 1, spacing: 0.1, material: glass}"),
+     "bad.yaml:6: body.0.shape: shape 'sphere' exists only in 3D scenes; this scene has dimension "
+     "2 (allowed: box, disk, polygon, half-space, union, difference)"},
+    {"ShapeKeyMisspelt",
+     replace_line(6, "  - {shape: disk, center: [0, 0], raduis: 1, spacing: 0.1, material: glass}"),
+     "bad.yaml:6: body.0.raduis: unknown key 'raduis', did you mean 'radius'? (allowed: shape, "
+     "center, radius, spacing, material)"},
+    {"BoxKeyOnDisk",
+     replace_line(6, "  - {shape: disk, min: [0, 0], radius: 1, spacing: 0.1, material: glass}"),
+     "bad.yaml:6: body.0.min: unknown key 'min' (allowed: shape, center, radius, spacing, "
+     "material)"},
+    {"RadiusZero",
+     replace_line(6, "  - {shape: disk, center: [0, 0], radius: 0, spacing: 0.1, material: glass}"),
+     "bad.yaml:6: body.0.radius: radius must be > 0, got 0 (allowed: > 0)"},
+    {"NestedRadiusNegative",
+     replace_line(6,
+                  "  - shape: difference\n    of:\n      - {shape: box, min: [0, 0], max: [1, "
+                  "1]}\n      - {shape: disk, center: [0, 0], radius: -1}\n    spacing: 0.1\n"
+                  "    material: glass"),
+     "bad.yaml:9: body.0.of.1.radius: radius must be > 0, got -1 (allowed: > 0)"},
+    {"HalfSpaceZeroNormal", plus("no_fail: [{shape: half-space, point: [0, 0], normal: [0, 0]}]"),
+     "bad.yaml:8: no_fail.0.normal: normal must not be the zero vector"},
+    {"CylinderZeroAxis",
+     "name: t\ndimension: 3\nmaterials:\n  g: {E: 1.0e9, rho: 1000}\nbody:\n  - {shape: "
+     "cylinder, center: [0, 0, 0], axis: [0, 0, 0], radius: 1, height: 1, spacing: 0.1, "
+     "material: g}\ntime: {end: 1.0}\n",
+     "bad.yaml:6: body.0.axis: axis must not be the zero vector"},
+    {"PolygonTwoPoints",
+     replace_line(6,
+                  "  - {shape: polygon, points: [[0, 0], [1, 0]], spacing: 0.1, material: glass}"),
+     "bad.yaml:6: body.0.points: a polygon needs at least 3 points, got 2 (allowed: >= 3 points)"},
+    {"PolygonSelfIntersecting",
+     replace_line(6,
+                  "  - {shape: polygon, points: [[0, 0], [1, 1], [1, 0], [0, 1]], spacing: 0.1, "
+                  "material: glass}"),
+     "bad.yaml:6: body.0.points: the polygon intersects itself: edge 0 [0, 0]-[1, 1] and edge 2 "
+     "[1, 0]-[0, 1] cross"},
+    {"PolygonDuplicatePoint",
+     replace_line(6,
+                  "  - {shape: polygon, points: [[0, 0], [1, 0], [1, 0], [0, 1]], spacing: 0.1, "
+                  "material: glass}"),
+     "bad.yaml:6: body.0.points.2: point 2 repeats point 1 [1, 0]; give each corner once"},
+    {"PolygonRepeatsFirstPoint",
+     replace_line(6,
+                  "  - {shape: polygon, points: [[0, 0], [1, 0], [0, 1], [0, 0]], spacing: 0.1, "
+                  "material: glass}"),
+     "bad.yaml:6: body.0.points.3: the last point repeats the first [0, 0]"},
+    {"UnionWithoutOperands", plus("no_fail: [{shape: union, of: []}]"),
+     "bad.yaml:8: no_fail.0.of: a union needs at least 1 operand, got 0"},
+    {"DifferenceOfOne",
+     plus("no_fail: [{shape: difference, of: [{shape: box, min: [0, 0], max: [1, 1]}]}]"),
+     "bad.yaml:8: no_fail.0.of: a difference needs at least 2 operands, got 1"},
+    {"UnboundedBodyPart",
+     replace_line(6,
+                  "  - {shape: half-space, point: [0, 0], normal: [1, 0], spacing: 0.1, "
+                  "material: glass}"),
+     "bad.yaml:6: body.0.shape: a body part must be bounded"},
+    {"UnknownShapeInRegion", plus("no_fail: [{shape: circle, center: [0, 0], radius: 1}]"),
+     "bad.yaml:8: no_fail.0.shape: unknown shape 'circle'"},
+    {"MaterialRegionUnknownMaterial",
+     plus("material_regions:\n  - region: {shape: disk, center: [0.5, 0.5], radius: 0.2}\n"
+          "    material: glas"),
+     "bad.yaml:10: material_regions.0.material: material 'glas' is not defined in materials, did "
+     "you mean 'glass'?"},
+    {"MaterialRegionWithoutRegion", plus("material_regions: [{material: glass}]"),
+     "bad.yaml:8: material_regions.0: missing required key 'region'"},
     {"MaterialNotDefined",
      replace_line(6, "  - {shape: box, min: [0, 0], max: [1, 1], spacing: 0.1, material: glas}"),
      "bad.yaml:6: body.0.material: material 'glas' is not defined in materials, did you mean "

@@ -35,14 +35,21 @@ struct NamedMaterial {
 };
 
 struct BodyPart {
-  geometry::Box box;
+  geometry::Shape shape;  ///< bounded
   double spacing = 0.0;
   std::string material;
   Location where;
 };
 
 struct Region {
-  geometry::Box box;
+  geometry::Shape shape;
+  Location where;
+};
+
+/// Particles inside `region` take `material` (inclusions); later entries win.
+struct LocatedMaterialRegion {
+  geometry::Shape region;
+  std::string material;
   Location where;
 };
 
@@ -90,6 +97,7 @@ struct Scene {
   double area = 1.0;       ///< 1D
   std::vector<NamedMaterial> materials;
   std::vector<BodyPart> body;
+  std::vector<LocatedMaterialRegion> material_regions;
   double horizon_factor = 3.015;
   ForceModel model = ForceModel::DualHorizon;
   PartialVolume partial_volume = PartialVolume::None;

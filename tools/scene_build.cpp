@@ -20,14 +20,14 @@ int material_index(const Scene& s, const std::string& name, const Location& wher
   fail(where, fmt::format("material '{}' is not defined", name));
 }
 
-bool selects_any(const geometry::PointSet& pts, const geometry::Box& box, int dim) {
+bool selects_any(const geometry::PointSet& pts, const geometry::Shape& region, int dim) {
   return std::any_of(pts.position.begin(), pts.position.end(),
-                     [&](const geometry::Vec3& x) { return box.contains(x, dim); });
+                     [&](const geometry::Vec3& x) { return region.contains(x, dim); });
 }
 
-void require_particles(const geometry::PointSet& pts, const geometry::Box& box, int dim,
+void require_particles(const geometry::PointSet& pts, const geometry::Shape& region, int dim,
                        const Location& where) {
-  if (!selects_any(pts, box, dim))
+  if (!selects_any(pts, region, dim))
     fail({where.file, where.line, where.path + ".region"},
          "selects no particle: the region lies outside the body (or between particles)");
 }
@@ -46,17 +46,28 @@ SimulationSetup build_setup(const Scene& s) {
   for (const auto& m : s.materials) setup.materials.push_back(m.law);
   std::vector<geometry::LatticePart> parts;
   for (const auto& part : s.body)
-    parts.push_back({part.box, part.spacing, material_index(s, part.material, part.where)});
+    parts.push_back({part.shape, part.spacing, material_index(s, part.material, part.where)});
   setup.points = geometry::fill_lattice(parts, s.dimension);
   for (std::size_t p = 0; p < s.body.size(); ++p)
     if (std::find(setup.points.part.begin(), setup.points.part.end(), static_cast<int>(p)) ==
         setup.points.part.end())
-      fail(s.body[p].where, "this part adds no particle: later parts cover all of it");
+      fail(s.body[p].where, geometry::fill_lattice({parts[p]}, s.dimension).size() == 0
+                                ? "this part's shape holds no lattice point (the shape is empty "
+                                  "or thinner than the spacing)"
+                                : "this part adds no particle: later parts cover all of it");
+  std::vector<geometry::MaterialRegion> regions;
+  for (const auto& r : s.material_regions)
+    regions.push_back({r.region, material_index(s, r.material, r.where)});
+  const auto selected = geometry::assign_materials(setup.points, regions, s.dimension);
+  for (std::size_t r = 0; r < selected.size(); ++r)
+    if (selected[r] == 0)
+      require_particles(setup.points, s.material_regions[r].region, s.dimension,
+                        s.material_regions[r].where);
   for (const auto& c : s.cracks) setup.cracks.push_back(c.crack);
   for (const auto& r : s.no_fail) {
-    if (!selects_any(setup.points, r.box, s.dimension))
+    if (!selects_any(setup.points, r.shape, s.dimension))
       fail(r.where, "selects no particle: the region lies outside the body");
-    setup.no_fail.push_back(r.box);
+    setup.no_fail.push_back(r.shape);
   }
   for (const auto& ic : s.initial_conditions) {
     require_particles(setup.points, ic.ic.region, s.dimension, ic.where);

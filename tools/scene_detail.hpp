@@ -106,13 +106,22 @@ void check_poisson(const Cursor& at, double nu, const Section& section);
 /// 2D: two distinct points; 3D: four coplanar corners.
 void check_crack(const Cursor& at, const geometry::Crack& crack, int dim);
 
+// Shapes (scene_shapes.cpp).
+/// The shape of a map `{shape: WORD, ...}` that may also hold the `extra` keys the caller reads
+/// from the returned map view (unknown keys are refused with a suggestion).
+std::pair<geometry::Shape, MapView> shape_from(const Cursor& c, int dim,
+                                               const std::vector<std::string>& extra);
+/// A region: a map of exactly one shape's keys.
+geometry::Shape read_shape(const Cursor& c, int dim);
+/// The scene word of node `index` of a shape ("disk" in 2D, "sphere" in 3D for a ball).
+std::string shape_word(const geometry::Shape& shape, int index, int dim);
+
 // Section readers (scene_regions.cpp), shared by the top-level reader.
-/// The box of a map holding shape/min/max (and possibly other keys the caller reads).
-geometry::Box box_from(const MapView& map, int dim);
-/// A region: a map of exactly shape/min/max.
-geometry::Box read_box(const Cursor& c, int dim);
 std::vector<LocatedCrack> read_cracks(const Cursor& c, int dim);
 std::vector<Region> read_regions(const Cursor& c, int dim);
+std::vector<LocatedMaterialRegion> read_material_regions(const Cursor& c, const Scene& s);
+/// Fails unless the material named at `c` is defined in the scene (with a suggestion).
+std::string material_name(const Cursor& c, const Scene& s);
 std::vector<LocatedInitialCondition> read_initial_conditions(const Cursor& c, int dim);
 std::vector<LocatedBoundaryCondition> read_boundary_conditions(const Cursor& c, int dim);
 

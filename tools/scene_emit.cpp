@@ -25,19 +25,57 @@ void emit_point(YAML::Emitter& out, const geometry::Vec3& p, int dim) {
   out << YAML::EndSeq;
 }
 
-/// The shape/min/max entries of a box, inside a map the caller has opened.
-void emit_box_entries(YAML::Emitter& out, const geometry::Box& box, int dim) {
-  out << YAML::Key << "shape" << YAML::Value << "box";
-  out << YAML::Key << "min" << YAML::Value;
-  emit_point(out, box.min, dim);
-  out << YAML::Key << "max" << YAML::Value;
-  emit_point(out, box.max, dim);
+void emit_key_point(YAML::Emitter& out, const char* key, const geometry::Vec3& p, int dim) {
+  out << YAML::Key << key << YAML::Value;
+  emit_point(out, p, dim);
 }
 
-void emit_region(YAML::Emitter& out, const geometry::Box& box, int dim) {
+void emit_region(YAML::Emitter& out, const geometry::Shape& shape, int index, int dim);
+
+/// The entries of shape node `index` (shape word and its keys), inside a map the caller opened.
+void emit_shape_entries(YAML::Emitter& out, const geometry::Shape& shape, int index, int dim) {
+  using Kind = geometry::Shape::Kind;
+  const auto& n = shape.node(index);
+  out << YAML::Key << "shape" << YAML::Value << detail::shape_word(shape, index, dim);
+  switch (n.kind) {
+    case Kind::Box:
+      emit_key_point(out, "min", n.a, dim);
+      emit_key_point(out, "max", n.b, dim);
+      break;
+    case Kind::Ball:
+    case Kind::Cylinder:
+      emit_key_point(out, "center", n.a, dim);
+      if (n.kind == Kind::Cylinder) emit_key_point(out, "axis", n.b, dim);
+      out << YAML::Key << "radius" << YAML::Value << number_text(n.radius);
+      if (n.kind == Kind::Cylinder)
+        out << YAML::Key << "height" << YAML::Value << number_text(n.height);
+      break;
+    case Kind::Polygon:
+      out << YAML::Key << "points" << YAML::Value << YAML::Flow << YAML::BeginSeq;
+      for (const auto& p : n.points) emit_point(out, p, dim);
+      out << YAML::EndSeq;
+      break;
+    case Kind::HalfSpace:
+      emit_key_point(out, "point", n.a, dim);
+      emit_key_point(out, "normal", n.b, dim);
+      break;
+    case Kind::Union:
+    case Kind::Difference:
+      out << YAML::Key << "of" << YAML::Value << YAML::Flow << YAML::BeginSeq;
+      for (const int c : n.children) emit_region(out, shape, c, dim);
+      out << YAML::EndSeq;
+      break;
+  }
+}
+
+void emit_region(YAML::Emitter& out, const geometry::Shape& shape, int index, int dim) {
   out << YAML::Flow << YAML::BeginMap;
-  emit_box_entries(out, box, dim);
+  emit_shape_entries(out, shape, index, dim);
   out << YAML::EndMap;
+}
+
+void emit_region(YAML::Emitter& out, const geometry::Shape& shape, int dim) {
+  emit_region(out, shape, shape.root(), dim);
 }
 
 void emit_materials(YAML::Emitter& out, const Scene& s) {
@@ -58,10 +96,18 @@ void emit_body(YAML::Emitter& out, const Scene& s) {
   out << YAML::Key << "body" << YAML::Value << YAML::BeginSeq;
   for (const auto& part : s.body) {
     out << YAML::Flow << YAML::BeginMap;
-    emit_box_entries(out, part.box, s.dimension);
+    emit_shape_entries(out, part.shape, part.shape.root(), s.dimension);
     out << YAML::Key << "spacing" << YAML::Value << number_text(part.spacing);
     out << YAML::Key << "material" << YAML::Value << part.material;
     out << YAML::EndMap;
+  }
+  out << YAML::EndSeq;
+  if (s.material_regions.empty()) return;
+  out << YAML::Key << "material_regions" << YAML::Value << YAML::BeginSeq;
+  for (const auto& r : s.material_regions) {
+    out << YAML::Flow << YAML::BeginMap << YAML::Key << "region" << YAML::Value;
+    emit_region(out, r.region, s.dimension);
+    out << YAML::Key << "material" << YAML::Value << r.material << YAML::EndMap;
   }
   out << YAML::EndSeq;
 }
@@ -78,7 +124,7 @@ void emit_cracks_and_no_fail(YAML::Emitter& out, const Scene& s) {
   }
   if (!s.no_fail.empty()) {
     out << YAML::Key << "no_fail" << YAML::Value << YAML::BeginSeq;
-    for (const auto& r : s.no_fail) emit_region(out, r.box, s.dimension);
+    for (const auto& r : s.no_fail) emit_region(out, r.shape, s.dimension);
     out << YAML::EndSeq;
   }
 }

@@ -1,19 +1,22 @@
-// Scene sections made of regions: boxes, cracks, no-fail zones, initial and boundary conditions.
+// Scene sections made of regions: cracks, no-fail zones, material regions, initial and boundary
+// conditions.
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 
 #include "tools/scene_detail.hpp"
 
 namespace dhpd::scene::detail {
 namespace {
 
-const std::vector<std::string> kShapes{"box"};
-const std::vector<std::string> kRegionKeys{"shape", "min", "max"};
-
-geometry::Vec3 box_centre(const geometry::Box& box) {
+/// The centre of the region's bounds, or 0 on the axes where the region is unbounded.
+geometry::Vec3 region_centre(const geometry::Shape& region, int dim) {
+  const geometry::Box box = region.bounds(dim);
   geometry::Vec3 centre{0, 0, 0};
-  for (int a = 0; a < 3; ++a) centre[a] = 0.5 * (box.min[a] + box.max[a]);
+  for (int a = 0; a < dim; ++a)
+    if (std::isfinite(box.min[a]) && std::isfinite(box.max[a]))
+      centre[a] = 0.5 * (box.min[a] + box.max[a]);
   return centre;
 }
 
@@ -45,14 +48,16 @@ std::array<std::optional<double>, 3> read_velocity_components(const Cursor& c, i
 InitialCondition read_initial_condition(const Cursor& c, int dim) {
   const MapView map(c, {"region", "velocity", "displacement", "strain", "origin", "gaussian"});
   InitialCondition ic;
-  ic.region = read_box(map.require("region"), dim);
+  ic.region = read_shape(map.require("region"), dim);
   if (const auto v = map.get("velocity")) ic.velocity = v->point(dim);
   if (const auto u = map.get("displacement")) ic.displacement = u->point(dim);
   if (const auto e = map.get("strain")) ic.strain = e->point(dim);
   if (!ic.velocity && !ic.displacement && !ic.strain)
     c.fail("give at least one of velocity, displacement, strain");
   const auto origin = map.get("origin");
-  ic.origin = origin ? origin->point(dim) : box_centre(ic.region);
+  if (ic.strain && !origin && !ic.region.bounds(dim).finite(dim))
+    c.fail("the region is unbounded, so strain needs an explicit origin");
+  ic.origin = origin ? origin->point(dim) : region_centre(ic.region, dim);
   if (const auto g = map.get("gaussian")) {
     if (!ic.velocity && !ic.displacement)
       g->fail("the gaussian envelope shapes velocity and displacement: give one of them");
@@ -66,7 +71,7 @@ InitialCondition read_initial_condition(const Cursor& c, int dim) {
 BoundaryCondition read_boundary_condition(const Cursor& c, int dim) {
   const MapView map(c, {"region", "velocity", "fixed", "traction", "normal"});
   BoundaryCondition bc;
-  bc.region = read_box(map.require("region"), dim);
+  bc.region = read_shape(map.require("region"), dim);
   const std::vector<std::string> kinds{"velocity", "fixed", "traction"};
   const auto given =
       std::count_if(kinds.begin(), kinds.end(), [&](const std::string& k) { return map.has(k); });
@@ -94,20 +99,6 @@ BoundaryCondition read_boundary_condition(const Cursor& c, int dim) {
 
 }  // namespace
 
-geometry::Box box_from(const MapView& map, int dim) {
-  map.require("shape").choice(kShapes);
-  geometry::Box box;
-  box.min = map.require("min").point(dim);
-  const Cursor max = map.require("max");
-  box.max = max.point(dim);
-  check_box(max, box, dim);
-  return box;
-}
-
-geometry::Box read_box(const Cursor& c, int dim) {
-  return box_from(MapView(c, kRegionKeys), dim);
-}
-
 std::vector<LocatedCrack> read_cracks(const Cursor& c, int dim) {
   std::vector<LocatedCrack> cracks;
   for (const auto& item : c.list()) {
@@ -124,7 +115,33 @@ std::vector<LocatedCrack> read_cracks(const Cursor& c, int dim) {
 
 std::vector<Region> read_regions(const Cursor& c, int dim) {
   std::vector<Region> regions;
-  for (const auto& item : c.list()) regions.push_back(Region{read_box(item, dim), item.where()});
+  for (const auto& item : c.list()) regions.push_back(Region{read_shape(item, dim), item.where()});
+  return regions;
+}
+
+std::string material_name(const Cursor& c, const Scene& s) {
+  std::vector<std::string> names;
+  for (const auto& m : s.materials) names.push_back(m.name);
+  const std::string name = c.string();
+  if (std::find(names.begin(), names.end(), name) == names.end()) {
+    const auto suggestion = closest_word(name, names);
+    c.fail(fmt::format("material '{}' is not defined in materials{}", name,
+                       suggestion ? fmt::format(", did you mean '{}'?", *suggestion) : ""),
+           join(names));
+  }
+  return name;
+}
+
+std::vector<LocatedMaterialRegion> read_material_regions(const Cursor& c, const Scene& s) {
+  std::vector<LocatedMaterialRegion> regions;
+  for (const auto& item : c.list()) {
+    const MapView map(item, {"region", "material"});
+    LocatedMaterialRegion r;
+    r.region = read_shape(map.require("region"), s.dimension);
+    r.material = material_name(map.require("material"), s);
+    r.where = item.where();
+    regions.push_back(std::move(r));
+  }
   return regions;
 }
 

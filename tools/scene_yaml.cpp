@@ -36,6 +36,7 @@ const std::vector<std::string> kTopLevelKeys{"name",
                                              "area",
                                              "materials",
                                              "body",
+                                             "material_regions",
                                              "horizon",
                                              "model",
                                              "partial_volume",
@@ -118,23 +119,20 @@ std::vector<NamedMaterial> read_materials(const Cursor& c, const Scene& s) {
 }
 
 BodyPart read_part(const Cursor& c, const Scene& s) {
-  const MapView map(c, {"shape", "min", "max", "spacing", "material"});
+  auto [shape, map] = detail::shape_from(c, s.dimension, {"spacing", "material"});
   BodyPart part;
   part.where = c.where();
-  part.box = detail::box_from(map, s.dimension);
+  part.shape = std::move(shape);
+  const geometry::Box bounds = part.shape.bounds(s.dimension);
+  if (!bounds.finite(s.dimension))
+    map.require("shape").fail(
+        "a body part must be bounded, but this shape reaches infinity (a half-space alone, or a "
+        "union holding one); cut it with a bounded shape, e.g. {shape: difference, of: [{shape: "
+        "box, ...}, {shape: half-space, ...}]}");
   const Cursor spacing = map.require("spacing");
   part.spacing = detail::positive_number(spacing);
-  detail::check_spacing(spacing, part.spacing, part.box, s.dimension);
-  std::vector<std::string> names;
-  for (const auto& m : s.materials) names.push_back(m.name);
-  const Cursor material = map.require("material");
-  part.material = material.string();
-  if (std::find(names.begin(), names.end(), part.material) == names.end()) {
-    const auto suggestion = detail::closest_word(part.material, names);
-    material.fail(fmt::format("material '{}' is not defined in materials{}", part.material,
-                              suggestion ? fmt::format(", did you mean '{}'?", *suggestion) : ""),
-                  detail::join(names));
-  }
+  detail::check_spacing(spacing, part.spacing, bounds, s.dimension);
+  part.material = detail::material_name(map.require("material"), s);
   return part;
 }
 
@@ -220,6 +218,8 @@ void read_regions_and_loads(const MapView& top, Scene& s) {
     if (s.dimension == 1) cracks->fail("cracks are not available in 1D scenes");
     s.cracks = detail::read_cracks(*cracks, s.dimension);
   }
+  if (const auto c = top.get("material_regions"))
+    s.material_regions = detail::read_material_regions(*c, s);
   if (const auto c = top.get("no_fail")) s.no_fail = detail::read_regions(*c, s.dimension);
   if (const auto c = top.get("initial_conditions"))
     s.initial_conditions = detail::read_initial_conditions(*c, s.dimension);
