@@ -10,6 +10,8 @@
 
 #include "engine/errors.hpp"
 #include "engine/kernels.hpp"
+#include "geometry/mesh_points.hpp"
+#include "geometry/points_file.hpp"
 
 namespace dhpd::scene {
 namespace {
@@ -32,6 +34,48 @@ void require_particles(const geometry::PointSet& pts, const geometry::Box& box, 
          "selects no particle: the region lies outside the body (or between particles)");
 }
 
+/// The particles of one part, before later parts replace those inside their boxes.
+geometry::PointSet part_points(const Scene& s, std::size_t p) {
+  const BodyPart& part = s.body[p];
+  const int index = static_cast<int>(p);
+  const int material = part.material.empty() ? 0 : material_index(s, part.material, part.where);
+  if (part.kind == PartKind::Lattice) {
+    auto pts = geometry::fill_lattice({{part.box, part.spacing, material}}, s.dimension);
+    std::fill(pts.part.begin(), pts.part.end(), index);
+    return pts;
+  }
+  if (part.kind == PartKind::Mesh)
+    return geometry::mesh_box(part.box, s.dimension, part.mesh, material, index);
+  geometry::PointsFileOptions options;
+  options.dim = s.dimension;
+  options.section = s.dimension == 2 ? s.thickness : (s.dimension == 1 ? s.area : 1.0);
+  for (const auto& m : s.materials) options.materials.push_back(m.name);
+  if (!part.material.empty()) options.default_material = material;
+  options.part = index;
+  return geometry::read_points_file(part.points_file, options);
+}
+
+/// Every part's particles in order; a point inside a later box part is dropped (that part wins).
+geometry::PointSet body_points(const Scene& s) {
+  geometry::PointSet out;
+  for (std::size_t p = 0; p < s.body.size(); ++p) {
+    const auto pts = part_points(s, p);
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+      bool overridden = false;
+      for (std::size_t q = p + 1; q < s.body.size() && !overridden; ++q)
+        overridden = s.body[q].kind != PartKind::PointsFile &&
+                     s.body[q].box.contains(pts.position[i], s.dimension);
+      if (overridden) continue;
+      out.position.push_back(pts.position[i]);
+      out.cell_measure.push_back(pts.cell_measure[i]);
+      out.spacing.push_back(pts.spacing[i]);
+      out.material.push_back(pts.material[i]);
+      out.part.push_back(pts.part[i]);
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
 SimulationSetup build_setup(const Scene& s) {
@@ -44,10 +88,7 @@ SimulationSetup build_setup(const Scene& s) {
   setup.partial_volume = s.partial_volume;
   setup.horizon_factor = s.horizon_factor;
   for (const auto& m : s.materials) setup.materials.push_back(m.law);
-  std::vector<geometry::LatticePart> parts;
-  for (const auto& part : s.body)
-    parts.push_back({part.box, part.spacing, material_index(s, part.material, part.where)});
-  setup.points = geometry::fill_lattice(parts, s.dimension);
+  setup.points = body_points(s);
   for (std::size_t p = 0; p < s.body.size(); ++p)
     if (std::find(setup.points.part.begin(), setup.points.part.end(), static_cast<int>(p)) ==
         setup.points.part.end())

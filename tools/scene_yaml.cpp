@@ -117,34 +117,6 @@ std::vector<NamedMaterial> read_materials(const Cursor& c, const Scene& s) {
   return materials;
 }
 
-BodyPart read_part(const Cursor& c, const Scene& s) {
-  const MapView map(c, {"shape", "min", "max", "spacing", "material"});
-  BodyPart part;
-  part.where = c.where();
-  part.box = detail::box_from(map, s.dimension);
-  const Cursor spacing = map.require("spacing");
-  part.spacing = detail::positive_number(spacing);
-  detail::check_spacing(spacing, part.spacing, part.box, s.dimension);
-  std::vector<std::string> names;
-  for (const auto& m : s.materials) names.push_back(m.name);
-  const Cursor material = map.require("material");
-  part.material = material.string();
-  if (std::find(names.begin(), names.end(), part.material) == names.end()) {
-    const auto suggestion = detail::closest_word(part.material, names);
-    material.fail(fmt::format("material '{}' is not defined in materials{}", part.material,
-                              suggestion ? fmt::format(", did you mean '{}'?", *suggestion) : ""),
-                  detail::join(names));
-  }
-  return part;
-}
-
-std::vector<BodyPart> read_body(const Cursor& c, const Scene& s) {
-  std::vector<BodyPart> body;
-  for (const auto& item : c.list()) body.push_back(read_part(item, s));
-  if (body.empty()) c.fail("the body needs at least one part, e.g. - {shape: box, ...}");
-  return body;
-}
-
 void read_discretisation(const MapView& top, Scene& s) {
   if (const auto horizon = top.get("horizon"))
     if (const auto factor = MapView(*horizon, {"factor"}).get("factor"))
@@ -237,7 +209,7 @@ Scene read_scene(const Cursor& root, const std::string& file) {
     if (const auto fracture = MapView(*effects, {"fracture"}).get("fracture"))
       s.effects.fracture = fracture->boolean();
   s.materials = read_materials(top.require("materials"), s);
-  s.body = read_body(top.require("body"), s);
+  s.body = detail::read_body(top.require("body"), s);
   read_discretisation(top, s);
   read_regions_and_loads(top, s);
   s.time = read_time(top.require("time"));
