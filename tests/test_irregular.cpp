@@ -106,5 +106,72 @@ TEST(IrregularMomentum, DualHorizonBalancesOnAGradedMesh) {
   }
 }
 
+struct EnergyError {
+  double mean = 0, max = 0, mean_ratio = 0;
+  std::size_t interior = 0;
+};
+
+/// W_i / W_continuum over particles whose horizon lies inside the plate, under u_x = ε x in 2D
+/// plane stress (ν = 1/3): uniaxial strain gives W = ½ E / (1 − ν²) ε².
+EnergyError uniaxial_strain_error(const geometry::PointSet& pts, double side, PartialVolume pv,
+                                  double factor = 3.015) {
+  Section s;
+  s.dim = 2;
+  s.thickness = 1e-3;
+  auto p = test::store_from_points(pts, 2, factor, s);
+  const double eps = 1e-4, E = 70e9, nu = 1.0 / 3.0;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    test::set_displacement(p, 0, i, eps * p.reference_position[0][i]);
+  const Material m{E, 2400, 1.0};
+  auto a = test::assemble(p, ForceModel::DualHorizon, pv, m, s);
+  std::vector<double> w;
+  strain_energy_density(a.bonds, p, a.C, w);
+  const double exact = 0.5 * E / (1 - nu * nu) * eps * eps;
+  EnergyError e;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const double x = p.reference_position[0][i], y = p.reference_position[1][i];
+    const double margin = std::min({x, y, side - x, side - y});
+    if (margin < p.horizon[i]) continue;
+    const double err = std::abs(w[i] / exact - 1.0);
+    e.mean += err, e.mean_ratio += w[i] / exact, e.max = std::max(e.max, err), ++e.interior;
+  }
+  e.mean /= static_cast<double>(e.interior);
+  e.mean_ratio /= static_cast<double>(e.interior);
+  return e;
+}
+
+// Measured (m = 3.015, 2944 nodes, size 3 mm on a 0.1 m plate, 2195 interior particles):
+//   none:   mean W/W_c = 0.9956, mean |error| 7.9 %, max 45.9 %
+//   linear: mean W/W_c = 0.8805, mean |error| 12.0 %, max 37.5 %
+// The per-particle scatter comes from each node's own horizon factor × sqrt(area) and the
+// one-point quadrature of its neighbours; with `none` it falls with the horizon factor (m = 4:
+// 5.1 % / 25 %, m = 5: 3.8 % / 20 %, m = 6: 2.9 % / 15 %). The mean over the interior is what
+// this test holds to 5 %; the per-particle 5 % bound is the disabled test below.
+TEST(IrregularEnergy, UniaxialStrainInteriorMeanWithinFivePercent) {
+  const double side = 0.1;
+  const auto pts = geometry::mesh_box(plate(side, side), 2, MeshSize{0.003}, 0);
+  for (const auto pv : {PartialVolume::None, PartialVolume::Linear}) {
+    const auto e = uniaxial_strain_error(pts, side, pv);
+    std::printf(
+        "uniaxial strain, mesh %zu nodes, %zu interior, partial volume %s: mean W/W_c = "
+        "%.4f, mean |error| %.2f %%, max |error| %.2f %%\n",
+        pts.size(), e.interior, pv == PartialVolume::None ? "none" : "linear", e.mean_ratio,
+        100 * e.mean, 100 * e.max);
+    ASSERT_GT(e.interior, 1000u);
+    // none: the continuum value; linear: the lattice's linear-rule quadrature ratio 0.862
+    // (test_calibration.cpp), which under-integrates the horizon on any point set.
+    const double expected = pv == PartialVolume::None ? 1.0 : 0.862;
+    EXPECT_NEAR(e.mean_ratio / expected, 1.0, 0.05);
+  }
+}
+
+// The per-particle bound. Fails today (max 46 % with none, 38 % with linear); to be
+// enabled when `exact` partial volumes or a better spacing estimate bring it within 5 %.
+TEST(IrregularEnergy, DISABLED_UniaxialStrainEveryInteriorParticleWithinFivePercent) {
+  const double side = 0.1;
+  const auto pts = geometry::mesh_box(plate(side, side), 2, MeshSize{0.003}, 0);
+  EXPECT_LT(uniaxial_strain_error(pts, side, PartialVolume::None).max, 0.05);
+}
+
 }  // namespace
 }  // namespace dhpd
