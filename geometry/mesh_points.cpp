@@ -133,7 +133,8 @@ PointSet mesh_polygon(const std::vector<std::array<double, 2>>& boundary, const 
 }
 
 PointSet mesh_box(const Box& box, int dim, const MeshSize& size, int material, int part) {
-  if (dim != 2) throw std::invalid_argument("meshing is available for 2D parts only");
+  if (dim == 3) return mesh_box_3d(box, size, material, part);
+  if (dim != 2) throw std::invalid_argument("meshing is available for 2D and 3D parts only");
   const std::vector<std::array<double, 2>> corners{{box.min[0], box.min[1]},
                                                    {box.max[0], box.min[1]},
                                                    {box.max[0], box.max[1]},

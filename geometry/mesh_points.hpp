@@ -33,8 +33,13 @@ inline constexpr double kMeshShapeBound = 0.125;
 PointSet mesh_polygon(const std::vector<std::array<double, 2>>& boundary, const MeshSize& size,
                       int material, int part = 0);
 
-/// An axis-aligned box meshed as above. Only dim == 2 is available; other dimensions throw
-/// std::invalid_argument.
+/// An axis-aligned box meshed as above (dim 2) or with tetrahedra (dim 3, mesh_box_3d); dim 1
+/// throws std::invalid_argument.
 PointSet mesh_box(const Box& box, int dim, const MeshSize& size, int material, int part = 0);
+
+/// A box meshed with CGAL Mesh_3, its edges and corners protected so the tetrahedra fill it
+/// exactly; `size` bounds edges, boundary facets and cell radii. Each node gets a quarter of the
+/// volume of each of its tetrahedra and spacing cbrt(volume).
+PointSet mesh_box_3d(const Box& box, const MeshSize& size, int material, int part = 0);
 
 }  // namespace dhpd::geometry

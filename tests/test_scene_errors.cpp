@@ -87,7 +87,7 @@ const std::vector<BadScene> kBadScenes = {
     {"MeshIn1D",
      "name: t\ndimension: 1\nmaterials:\n  g: {E: 1.0e9, rho: 1000}\nbody:\n"
      "  - {shape: box, min: [0], max: [1], mesh: {size: 0.1}, material: g}\ntime: {end: 1.0}\n",
-     "bad.yaml:6: body.0.mesh: mesh parts are available in 2D only; this scene is 1D"},
+     "bad.yaml:6: body.0.mesh: mesh parts are available in 2D and 3D only; this scene is 1D"},
     {"MissingPointsFile", replace_line(6, "  - {points_file: no-such-file.txt, material: glass}"),
      "bad.yaml:6: body.0.points_file: points file 'no-such-file.txt' does not exist"},
     {"PointsFileWithSpacing",

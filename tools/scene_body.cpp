@@ -29,7 +29,7 @@ std::string read_material_name(const Cursor& material, const Scene& s) {
 
 /// `mesh: {size: S, grading: {from: point, rate: r}}`; the size is checked against the box.
 void read_mesh(const Cursor& c, BodyPart& part, int dim) {
-  if (dim != 2) c.fail(fmt::format("mesh parts are available in 2D only; this scene is {}D", dim));
+  if (dim == 1) c.fail("mesh parts are available in 2D and 3D only; this scene is 1D");
   const MapView map(c, {"size", "grading"});
   const Cursor size = map.require("size");
   part.mesh.size = positive_number(size);
