@@ -169,6 +169,35 @@ TEST_F(SceneFiles, MeshedPartRunsThroughTheBuilder) {
               sim->dt());
 }
 
+TEST(MeshScene, TetrahedralPartBesideALatticePartRuns) {
+  const std::string text = R"(name: brick
+dimension: 3
+materials:
+  steel: {E: 2.0e11, rho: 7850}
+body:
+  - {shape: box, min: [0.02, 0, 0], max: [0.03, 0.01, 0.01], spacing: 0.001, material: steel}
+  - {shape: box, min: [0, 0, 0], max: [0.02, 0.01, 0.01], mesh: {size: 0.002}, material: steel}
+initial_conditions:
+  - region: {shape: box, min: [0, 0, 0], max: [0.03, 0.01, 0.01]}
+    velocity: [0, 0, 1.0]
+    gaussian: {center: [0.015, 0.005, 0.005], width: 0.005}
+time: {steps: 10}
+)";
+  const auto scene = scene::parse_scene(text, "brick.yaml");
+  auto sim = scene::build_simulation(scene);
+  const auto& p = sim->particles();
+  double volume = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) volume += p.volume[i];
+  // The lattice points lie at cell centres, none on the shared face x = 0.02, so the later
+  // meshed part keeps all its nodes and the volumes add up to the body's.
+  EXPECT_NEAR(volume / (0.03 * 0.01 * 0.01), 1.0, 1e-10);
+  sim->run_steps(10);
+  EXPECT_NO_THROW(sim->check_stable(sim->energies()));
+  EXPECT_EQ(scene::resolved_yaml(scene::parse_scene(scene::resolved_yaml(scene), "r.yaml")),
+            scene::resolved_yaml(scene));
+  std::printf("3D meshed scene: %zu particles, %zu bonds\n", p.size(), sim->bonds().size());
+}
+
 TEST_F(SceneFiles, PointsFilePartIsResolvedAgainstTheSceneFolder) {
   std::string points;
   for (int j = 0; j < 20; ++j)
