@@ -5,6 +5,7 @@
 #include <yaml-cpp/yaml.h>
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <map>
 #include <set>
 
@@ -145,14 +146,32 @@ std::string num(double v) {
   return fmt::format("{}", v);
 }
 
-/// C and s0 for each distinct (material, spacing) pair present in the run.
-void emit_material_table(YAML::Emitter& out, const Scene& s, const Simulation& sim) {
-  const auto& p = sim.particles();
+/// At most this many spacings per material are listed; irregular parts (meshes, points files)
+/// give every particle its own spacing, and then only the smallest and largest are shown.
+constexpr std::size_t kListedSpacings = 16;
+
+/// One particle for each (material, spacing) pair shown in the table.
+std::map<std::pair<int, double>, std::size_t> table_rows(const ParticleStore& p) {
   std::map<std::pair<int, double>, std::size_t> first;
   for (std::size_t i = 0; i < p.size(); ++i)
     first.emplace(std::make_pair(p.material[i], p.spacing[i]), i);
+  std::map<int, std::size_t> count;
+  for (const auto& [key, i] : first) ++count[key.first];
+  std::map<std::pair<int, double>, std::size_t> rows;
+  for (auto it = first.begin(); it != first.end(); ++it) {
+    const int m = it->first.first;
+    const bool smallest = it == first.begin() || std::prev(it)->first.first != m;
+    const bool largest = std::next(it) == first.end() || std::next(it)->first.first != m;
+    if (count[m] <= kListedSpacings || smallest || largest) rows.insert(*it);
+  }
+  return rows;
+}
+
+/// C and s0 for each distinct (material, spacing) pair present in the run (or its extremes).
+void emit_material_table(YAML::Emitter& out, const Scene& s, const Simulation& sim) {
+  const auto& p = sim.particles();
   out << YAML::Key << "bond_constants" << YAML::Value << YAML::BeginSeq;
-  for (const auto& [key, i] : first) {
+  for (const auto& [key, i] : table_rows(p)) {
     const auto& law = s.materials[static_cast<std::size_t>(key.first)].law;
     out << YAML::BeginMap << YAML::Key << "material" << YAML::Value
         << s.materials[static_cast<std::size_t>(key.first)].name;
