@@ -76,6 +76,44 @@ inline ParticleStore lattice_store(int dim, int cells, double dx, double factor,
   return p;
 }
 
+/// A store filled from any point set (lattice, mesh or file): horizon = factor × spacing.
+inline ParticleStore store_from_points(const geometry::PointSet& pts, int dim, double factor,
+                                       const Section& s) {
+  ParticleStore p(dim);
+  p.resize(pts.size());
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    for (int a = 0; a < 3; ++a) p.reference_position[a][i] = p.position[a][i] = pts.position[i][a];
+    p.spacing[i] = pts.spacing[i];
+    p.horizon[i] = factor * pts.spacing[i];
+    p.volume[i] = s.volume_of_cell(pts.cell_measure[i]);
+    p.density[i] = 1000.0;
+    p.id[i] = static_cast<std::int32_t>(i);
+  }
+  return p;
+}
+
+/// |Σ F| / Σ |F| and |Σ y × F| / Σ |y||F| of the current force densities (F = f V).
+struct Balance {
+  double linear = 0, angular = 0;
+};
+
+inline Balance momentum_balance(const ParticleStore& p) {
+  double sum_f[3] = {0, 0, 0}, sum_m[3] = {0, 0, 0}, scale_f = 0, scale_m = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const double F[3] = {p.force_density[0][i] * p.volume[i], p.force_density[1][i] * p.volume[i],
+                         p.force_density[2][i] * p.volume[i]};
+    const double y[3] = {p.position[0][i], p.position[1][i], p.position[2][i]};
+    const double M[3] = {y[1] * F[2] - y[2] * F[1], y[2] * F[0] - y[0] * F[2],
+                         y[0] * F[1] - y[1] * F[0]};
+    const double fn = std::sqrt(F[0] * F[0] + F[1] * F[1] + F[2] * F[2]);
+    for (int a = 0; a < 3; ++a) sum_f[a] += F[a], sum_m[a] += M[a];
+    scale_f += fn;
+    scale_m += fn * std::sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2]);
+  }
+  auto len = [](const double* v) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); };
+  return {len(sum_f) / scale_f, len(sum_m) / scale_m};
+}
+
 inline void set_displacement(ParticleStore& p, int a, std::size_t i, double u) {
   p.displacement[a][i] = u;
   p.position[a][i] = p.reference_position[a][i] + u;

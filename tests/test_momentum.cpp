@@ -7,26 +7,7 @@
 namespace dhpd {
 namespace {
 
-struct Balance {
-  double linear = 0, angular = 0;  ///< |Σ F| / Σ |F| and |Σ y × F| / Σ |y||F|
-};
-
-Balance balance(const ParticleStore& p) {
-  double sum_f[3] = {0, 0, 0}, sum_m[3] = {0, 0, 0}, scale_f = 0, scale_m = 0;
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    const double F[3] = {p.force_density[0][i] * p.volume[i], p.force_density[1][i] * p.volume[i],
-                         p.force_density[2][i] * p.volume[i]};
-    const double y[3] = {p.position[0][i], p.position[1][i], p.position[2][i]};
-    const double M[3] = {y[1] * F[2] - y[2] * F[1], y[2] * F[0] - y[0] * F[2],
-                         y[0] * F[1] - y[1] * F[0]};
-    const double fn = std::sqrt(F[0] * F[0] + F[1] * F[1] + F[2] * F[2]);
-    for (int a = 0; a < 3; ++a) sum_f[a] += F[a], sum_m[a] += M[a];
-    scale_f += fn;
-    scale_m += fn * std::sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2]);
-  }
-  auto len = [](const double* v) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); };
-  return {len(sum_f) / scale_f, len(sum_m) / scale_m};
-}
+using test::Balance;
 
 Balance forces_of(ParticleStore p, ForceModel model, int dim) {
   Section s;
@@ -34,7 +15,7 @@ Balance forces_of(ParticleStore p, ForceModel model, int dim) {
   const Material m{1e9, 1000, 1.0};
   auto a = test::assemble(p, model, PartialVolume::Linear, m, s);
   internal_force_density(a.rows, p);
-  return balance(p);
+  return test::momentum_balance(p);
 }
 
 class MomentumTest : public ::testing::TestWithParam<int> {};

@@ -13,6 +13,7 @@
 #include "engine/settings.hpp"
 #include "engine/simulation.hpp"
 #include "geometry/crack.hpp"
+#include "geometry/mesh_points.hpp"
 #include "geometry/shapes.hpp"
 
 namespace dhpd::scene {
@@ -34,10 +35,21 @@ struct NamedMaterial {
   Location where;
 };
 
+/// How a body part makes its particles (cases/README.md, `body`).
+enum class PartKind {
+  Lattice,     ///< a box filled with a cell-centred lattice of `spacing`
+  Mesh,        ///< a box triangulated with edges bounded by `mesh` (2D)
+  PointsFile,  ///< particles read from `points_file`
+};
+
 struct BodyPart {
-  geometry::Shape shape;  ///< bounded
-  double spacing = 0.0;
-  std::string material;
+  PartKind kind = PartKind::Lattice;
+  geometry::Shape shape;    ///< Lattice and Mesh (bounded; a Mesh part is a box)
+  double spacing = 0.0;     ///< Lattice
+  geometry::MeshSize mesh;  ///< Mesh: size, and grading when `graded`
+  bool graded = false;      ///< Mesh: `mesh.grading` was given
+  std::string points_file;  ///< PointsFile: the path, resolved against the scene's folder
+  std::string material;     ///< empty for a PointsFile part whose lines name their material
   Location where;
 };
 

@@ -5,11 +5,14 @@
 #include <yaml-cpp/yaml.h>
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <map>
 #include <set>
 
 #include "engine/errors.hpp"
 #include "engine/kernels.hpp"
+#include "geometry/mesh_points.hpp"
+#include "geometry/points_file.hpp"
 
 namespace dhpd::scene {
 namespace {
@@ -32,6 +35,50 @@ void require_particles(const geometry::PointSet& pts, const geometry::Shape& reg
          "selects no particle: the region lies outside the body (or between particles)");
 }
 
+/// The particles of one part, before later parts replace those inside their shapes.
+geometry::PointSet part_points(const Scene& s, std::size_t p) {
+  const BodyPart& part = s.body[p];
+  const int index = static_cast<int>(p);
+  const int material = part.material.empty() ? 0 : material_index(s, part.material, part.where);
+  if (part.kind == PartKind::Lattice) {
+    auto pts = geometry::fill_lattice({{part.shape, part.spacing, material}}, s.dimension);
+    std::fill(pts.part.begin(), pts.part.end(), index);
+    return pts;
+  }
+  if (part.kind == PartKind::Mesh)
+    return geometry::mesh_box(part.shape.bounds(s.dimension), s.dimension, part.mesh, material,
+                              index);
+  geometry::PointsFileOptions options;
+  options.dim = s.dimension;
+  options.section = s.dimension == 2 ? s.thickness : (s.dimension == 1 ? s.area : 1.0);
+  for (const auto& m : s.materials) options.materials.push_back(m.name);
+  if (!part.material.empty()) options.default_material = material;
+  options.part = index;
+  return geometry::read_points_file(part.points_file, options);
+}
+
+/// Every part's particles in order; a point inside a later lattice or mesh part's shape is
+/// dropped (that part wins).
+geometry::PointSet body_points(const Scene& s) {
+  geometry::PointSet out;
+  for (std::size_t p = 0; p < s.body.size(); ++p) {
+    const auto pts = part_points(s, p);
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+      bool overridden = false;
+      for (std::size_t q = p + 1; q < s.body.size() && !overridden; ++q)
+        overridden = s.body[q].kind != PartKind::PointsFile &&
+                     s.body[q].shape.contains(pts.position[i], s.dimension);
+      if (overridden) continue;
+      out.position.push_back(pts.position[i]);
+      out.cell_measure.push_back(pts.cell_measure[i]);
+      out.spacing.push_back(pts.spacing[i]);
+      out.material.push_back(pts.material[i]);
+      out.part.push_back(pts.part[i]);
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
 SimulationSetup build_setup(const Scene& s) {
@@ -44,14 +91,11 @@ SimulationSetup build_setup(const Scene& s) {
   setup.partial_volume = s.partial_volume;
   setup.horizon_factor = s.horizon_factor;
   for (const auto& m : s.materials) setup.materials.push_back(m.law);
-  std::vector<geometry::LatticePart> parts;
-  for (const auto& part : s.body)
-    parts.push_back({part.shape, part.spacing, material_index(s, part.material, part.where)});
-  setup.points = geometry::fill_lattice(parts, s.dimension);
+  setup.points = body_points(s);
   for (std::size_t p = 0; p < s.body.size(); ++p)
     if (std::find(setup.points.part.begin(), setup.points.part.end(), static_cast<int>(p)) ==
         setup.points.part.end())
-      fail(s.body[p].where, geometry::fill_lattice({parts[p]}, s.dimension).size() == 0
+      fail(s.body[p].where, part_points(s, p).size() == 0
                                 ? "this part's shape holds no lattice point (the shape is empty "
                                   "or thinner than the spacing)"
                                 : "this part adds no particle: later parts cover all of it");
@@ -115,14 +159,32 @@ std::string num(double v) {
   return fmt::format("{}", v);
 }
 
-/// C and s0 for each distinct (material, spacing) pair present in the run.
-void emit_material_table(YAML::Emitter& out, const Scene& s, const Simulation& sim) {
-  const auto& p = sim.particles();
+/// At most this many spacings per material are listed; irregular parts (meshes, points files)
+/// give every particle its own spacing, and then only the smallest and largest are shown.
+constexpr std::size_t kListedSpacings = 16;
+
+/// One particle for each (material, spacing) pair shown in the table.
+std::map<std::pair<int, double>, std::size_t> table_rows(const ParticleStore& p) {
   std::map<std::pair<int, double>, std::size_t> first;
   for (std::size_t i = 0; i < p.size(); ++i)
     first.emplace(std::make_pair(p.material[i], p.spacing[i]), i);
+  std::map<int, std::size_t> count;
+  for (const auto& [key, i] : first) ++count[key.first];
+  std::map<std::pair<int, double>, std::size_t> rows;
+  for (auto it = first.begin(); it != first.end(); ++it) {
+    const int m = it->first.first;
+    const bool smallest = it == first.begin() || std::prev(it)->first.first != m;
+    const bool largest = std::next(it) == first.end() || std::next(it)->first.first != m;
+    if (count[m] <= kListedSpacings || smallest || largest) rows.insert(*it);
+  }
+  return rows;
+}
+
+/// C and s0 for each distinct (material, spacing) pair present in the run (or its extremes).
+void emit_material_table(YAML::Emitter& out, const Scene& s, const Simulation& sim) {
+  const auto& p = sim.particles();
   out << YAML::Key << "bond_constants" << YAML::Value << YAML::BeginSeq;
-  for (const auto& [key, i] : first) {
+  for (const auto& [key, i] : table_rows(p)) {
     const auto& law = s.materials[static_cast<std::size_t>(key.first)].law;
     out << YAML::BeginMap << YAML::Key << "material" << YAML::Value
         << s.materials[static_cast<std::size_t>(key.first)].name;

@@ -99,7 +99,8 @@ int dimension(const Cursor& c);
 std::string scene_name(const Cursor& c);
 /// Fails unless max > min on every axis of the dimension.
 void check_box(const Cursor& at, const geometry::Box& box, int dim);
-/// Fails unless 0 < spacing <= the smallest extent of the box.
+/// Fails unless 0 < spacing <= the smallest extent of the box (also used for a mesh size; the
+/// message names the cursor's key).
 void check_spacing(const Cursor& at, double spacing, const geometry::Box& box, int dim);
 /// Fails when a given Poisson's ratio differs from the one bond-based PD implies.
 void check_poisson(const Cursor& at, double nu, const Section& section);
@@ -124,5 +125,8 @@ std::vector<LocatedMaterialRegion> read_material_regions(const Cursor& c, const 
 std::string material_name(const Cursor& c, const Scene& s);
 std::vector<LocatedInitialCondition> read_initial_conditions(const Cursor& c, int dim);
 std::vector<LocatedBoundaryCondition> read_boundary_conditions(const Cursor& c, int dim);
+
+/// The `body` list (scene_body.cpp); materials must already be read.
+std::vector<BodyPart> read_body(const Cursor& c, const Scene& s);
 
 }  // namespace dhpd::scene::detail

@@ -92,13 +92,31 @@ void emit_materials(YAML::Emitter& out, const Scene& s) {
   out << YAML::EndMap;
 }
 
+void emit_mesh(YAML::Emitter& out, const BodyPart& part, int dim) {
+  out << YAML::Key << "mesh" << YAML::Value << YAML::BeginMap;
+  out << YAML::Key << "size" << YAML::Value << number_text(part.mesh.size);
+  if (part.graded) {
+    out << YAML::Key << "grading" << YAML::Value << YAML::BeginMap << YAML::Key << "from"
+        << YAML::Value;
+    emit_point(out, part.mesh.from, dim);
+    out << YAML::Key << "rate" << YAML::Value << number_text(part.mesh.rate) << YAML::EndMap;
+  }
+  out << YAML::EndMap;
+}
+
 void emit_body(YAML::Emitter& out, const Scene& s) {
   out << YAML::Key << "body" << YAML::Value << YAML::BeginSeq;
   for (const auto& part : s.body) {
     out << YAML::Flow << YAML::BeginMap;
-    emit_shape_entries(out, part.shape, part.shape.root(), s.dimension);
-    out << YAML::Key << "spacing" << YAML::Value << number_text(part.spacing);
-    out << YAML::Key << "material" << YAML::Value << part.material;
+    if (part.kind == PartKind::PointsFile) {
+      out << YAML::Key << "points_file" << YAML::Value << part.points_file;
+    } else {
+      emit_shape_entries(out, part.shape, part.shape.root(), s.dimension);
+    }
+    if (part.kind == PartKind::Lattice)
+      out << YAML::Key << "spacing" << YAML::Value << number_text(part.spacing);
+    if (part.kind == PartKind::Mesh) emit_mesh(out, part, s.dimension);
+    if (!part.material.empty()) out << YAML::Key << "material" << YAML::Value << part.material;
     out << YAML::EndMap;
   }
   out << YAML::EndSeq;

@@ -83,9 +83,9 @@ void check_spacing(const Cursor& at, double spacing, const geometry::Box& box, i
   double smallest = box.max[0] - box.min[0];
   for (int a = 1; a < dim; ++a) smallest = std::min(smallest, box.max[a] - box.min[a]);
   if (spacing > smallest) {
-    at.fail(
-        fmt::format("spacing {} is larger than the part's smallest extent {}", spacing, smallest),
-        fmt::format("0 < spacing <= {}", smallest));
+    at.fail(fmt::format("{} {} is larger than the part's smallest extent {}", at.key(), spacing,
+                        smallest),
+            fmt::format("0 < {} <= {}", at.key(), smallest));
   }
 }
 

@@ -118,31 +118,6 @@ std::vector<NamedMaterial> read_materials(const Cursor& c, const Scene& s) {
   return materials;
 }
 
-BodyPart read_part(const Cursor& c, const Scene& s) {
-  auto [shape, map] = detail::shape_from(c, s.dimension, {"spacing", "material"});
-  BodyPart part;
-  part.where = c.where();
-  part.shape = std::move(shape);
-  const geometry::Box bounds = part.shape.bounds(s.dimension);
-  if (!bounds.finite(s.dimension))
-    map.require("shape").fail(
-        "a body part must be bounded, but this shape reaches infinity (a half-space alone, or a "
-        "union holding one); cut it with a bounded shape, e.g. {shape: difference, of: [{shape: "
-        "box, ...}, {shape: half-space, ...}]}");
-  const Cursor spacing = map.require("spacing");
-  part.spacing = detail::positive_number(spacing);
-  detail::check_spacing(spacing, part.spacing, bounds, s.dimension);
-  part.material = detail::material_name(map.require("material"), s);
-  return part;
-}
-
-std::vector<BodyPart> read_body(const Cursor& c, const Scene& s) {
-  std::vector<BodyPart> body;
-  for (const auto& item : c.list()) body.push_back(read_part(item, s));
-  if (body.empty()) c.fail("the body needs at least one part, e.g. - {shape: box, ...}");
-  return body;
-}
-
 void read_discretisation(const MapView& top, Scene& s) {
   if (const auto horizon = top.get("horizon"))
     if (const auto factor = MapView(*horizon, {"factor"}).get("factor"))
@@ -238,7 +213,7 @@ Scene read_scene(const Cursor& root, const std::string& file) {
     if (const auto fracture = MapView(*effects, {"fracture"}).get("fracture"))
       s.effects.fracture = fracture->boolean();
   s.materials = read_materials(top.require("materials"), s);
-  s.body = read_body(top.require("body"), s);
+  s.body = detail::read_body(top.require("body"), s);
   read_discretisation(top, s);
   read_regions_and_loads(top, s);
   s.time = read_time(top.require("time"));
