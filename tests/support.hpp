@@ -89,6 +89,7 @@ inline ParticleStore store_from_points(const geometry::PointSet& pts, int dim, d
     p.density[i] = 1000.0;
     p.id[i] = static_cast<std::int32_t>(i);
   }
+  set_particle_radii(p, s);
   return p;
 }
 
