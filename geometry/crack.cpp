@@ -28,17 +28,45 @@ bool segments_cross2d(const Vec3& p1, const Vec3& p2, const Vec3& q1, const Vec3
   return false;
 }
 
-bool segment_crosses_triangle(const Vec3& a, const Vec3& b, const Vec3& t0, const Vec3& t1,
-                              const Vec3& t2) {
-  const Vec3 normal = cross(t1 - t0, t2 - t0);
-  const double da = dot(normal, a - t0), db = dot(normal, b - t0);
+/// Newell's normal of a polygon (not normalised; zero for a degenerate one).
+Vec3 polygon_normal(const std::vector<Vec3>& p) {
+  Vec3 n{0, 0, 0};
+  for (std::size_t k = 0; k < p.size(); ++k) {
+    const Vec3& a = p[k];
+    const Vec3& b = p[(k + 1) % p.size()];
+    n[0] += (a[1] - b[1]) * (a[2] + b[2]);
+    n[1] += (a[2] - b[2]) * (a[0] + b[0]);
+    n[2] += (a[0] - b[0]) * (a[1] + b[1]);
+  }
+  return n;
+}
+
+/// Closed point-in-polygon test of q (in the polygon's plane), projected on the plane of the two
+/// axes other than `drop` (the normal's dominant axis, so the projection keeps the shape).
+bool inside_projected(const std::vector<Vec3>& p, const Vec3& q, int drop) {
+  const int u = drop == 0 ? 1 : 0, v = drop == 2 ? 1 : 2;
+  bool inside = false;
+  for (std::size_t k = 0, m = p.size() - 1; k < p.size(); m = k++) {
+    const Vec3 a{p[m][u], p[m][v], 0}, b{p[k][u], p[k][v], 0}, x{q[u], q[v], 0};
+    if (orient2d(a, b, x) == 0 && on_segment2d(a, b, x)) return true;  // on an edge
+    if ((a[1] > x[1]) != (b[1] > x[1]) &&
+        x[0] < (b[0] - a[0]) * (x[1] - a[1]) / (b[1] - a[1]) + a[0])
+      inside = !inside;
+  }
+  return inside;
+}
+
+bool segment_crosses_polygon(const Vec3& a, const Vec3& b, const std::vector<Vec3>& poly) {
+  const Vec3 normal = polygon_normal(poly);
+  const double da = dot(normal, a - poly[0]), db = dot(normal, b - poly[0]);
   if ((da > 0 && db > 0) || (da < 0 && db < 0)) return false;
   if (da == db) return false;  // segment parallel to (or inside) the plane: does not cut it
   const double t = da / (da - db);
-  const Vec3 p = a + t * (b - a);
-  const Vec3 c0 = cross(t1 - t0, p - t0), c1 = cross(t2 - t1, p - t1), c2 = cross(t0 - t2, p - t2);
-  const double s0 = dot(c0, normal), s1 = dot(c1, normal), s2 = dot(c2, normal);
-  return (s0 >= 0 && s1 >= 0 && s2 >= 0) || (s0 <= 0 && s1 <= 0 && s2 <= 0);
+  const Vec3 q = a + t * (b - a);
+  int drop = 0;
+  for (int k = 1; k < 3; ++k)
+    if (std::abs(normal[k]) > std::abs(normal[drop])) drop = k;
+  return inside_projected(poly, q, drop);
 }
 
 }  // namespace
@@ -46,19 +74,21 @@ bool segment_crosses_triangle(const Vec3& a, const Vec3& b, const Vec3& t0, cons
 bool crosses(const Crack& crack, const Vec3& a, const Vec3& b, int dim) {
   const auto& p = crack.points;
   if (dim == 2) return segments_cross2d(a, b, p[0], p[1]);
-  if (dim == 3)
-    return segment_crosses_triangle(a, b, p[0], p[1], p[2]) ||
-           segment_crosses_triangle(a, b, p[0], p[2], p[3]);
+  if (dim == 3) return segment_crosses_polygon(a, b, p);
   return false;  // 1D: a crack is a point; not supported by the scene schema
 }
 
 bool is_planar(const Crack& crack, double rel_tol) {
   const auto& p = crack.points;
-  if (p.size() != 4) return false;
-  const Vec3 normal = cross(p[1] - p[0], p[2] - p[0]);
-  const double scale = norm(p[1] - p[0]) * norm(p[2] - p[0]) * norm(p[3] - p[0]);
-  if (scale == 0.0 || norm(normal) == 0.0) return false;
-  return std::abs(dot(normal, p[3] - p[0])) <= rel_tol * scale;
+  if (p.size() < 3) return false;
+  const Vec3 normal = polygon_normal(p);
+  const double area2 = norm(normal);  // twice the polygon's area
+  double extent = 0.0;
+  for (const auto& q : p) extent = std::max(extent, norm(q - p[0]));
+  if (area2 <= 1e-12 * extent * extent) return false;  // collinear or zero-area corners
+  for (const auto& q : p)
+    if (std::abs(dot(normal, q - p[0])) > rel_tol * area2 * extent) return false;
+  return true;
 }
 
 }  // namespace dhpd::geometry

@@ -125,6 +125,17 @@ TEST(SceneOverrides, LaterOverrideWinsAndWholeMapReplaced) {
   EXPECT_EQ(s.model, ForceModel::ClassicalVariable);
 }
 
+TEST(Scene, ThreeDimensionalCrackIsAnyPlanarPolygon) {
+  const std::string text =
+      "name: t\ndimension: 3\nmaterials:\n  g: {E: 1.0e9, rho: 1000}\nbody:\n"
+      "  - {shape: box, min: [0, 0, 0], max: [1, 1, 1], spacing: 0.1, material: g}\n"
+      "cracks:\n  - [[0, 0, 0.5], [1, 0, 0.5], [1, 0.5, 0.5], [0.5, 0.5, 0.5], [0.5, 1, 0.5], "
+      "[0, 1, 0.5]]\ntime: {steps: 1}\n";
+  const Scene s = parse_scene(text, "l.yaml");
+  ASSERT_EQ(s.cracks.size(), 1u);
+  EXPECT_EQ(s.cracks[0].crack.points.size(), 6u);
+}
+
 TEST(SceneOverrides, StepsReplaceEndAndEveryReplacesFrames) {
   const std::string text = std::string(kMinimal) + "output: {frames: 4}\n";
   const Scene s = parse_scene(text, "min.yaml", {{"time.steps", "5"}, {"output.every", "2"}});

@@ -219,7 +219,11 @@ const std::vector<BadScene> kBadScenes = {
     {"CrackNotPlanar3D",
      "name: t\ndimension: 3\nmaterials:\n  g: {E: 1.0e9, rho: 1000}\nbody:\n  - " + kBox3 +
          "\ncracks:\n  - [[0, 0, 0.5], [1, 0, 0.5], [1, 1, 0.5], [0, 1, 0.9]]\n",
-     "bad.yaml:8: cracks.0: the 4 corners of a 3D crack must lie in one plane"},
+     "bad.yaml:8: cracks.0: the corners of a 3D crack must lie in one plane"},
+    {"CrackTwoCorners3D",
+     "name: t\ndimension: 3\nmaterials:\n  g: {E: 1.0e9, rho: 1000}\nbody:\n  - " + kBox3 +
+         "\ncracks:\n  - [[0, 0, 0.5], [1, 0, 0.5]]\n",
+     "bad.yaml:8: cracks.0: a 3D crack is a planar polygon of at least 3 corners"},
     {"CrackIn1D",
      "name: t\ndimension: 1\nmaterials: {g: {E: 1, rho: 1}}\n"
      "body: [{shape: box, min: [0], max: [1], spacing: 0.1, material: g}]\ncracks: []\n",

@@ -102,9 +102,13 @@ BoundaryCondition read_boundary_condition(const Cursor& c, int dim) {
 std::vector<LocatedCrack> read_cracks(const Cursor& c, int dim) {
   std::vector<LocatedCrack> cracks;
   for (const auto& item : c.list()) {
-    const bool plane = dim == 2;
-    const auto points = item.list_of_size(
-        plane ? 2 : 4, plane ? "end points [[x0, y0], [x1, y1]]" : "corners [[x, y, z], ...]");
+    const auto points =
+        dim == 2 ? item.list_of_size(2, "end points [[x0, y0], [x1, y1]]") : item.list();
+    if (dim == 3 && points.size() < 3)
+      item.fail(
+          fmt::format("a 3D crack is a planar polygon of at least 3 corners "
+                      "[[x, y, z], ...], got {}",
+                      points.size()));
     LocatedCrack crack{{}, item.where()};
     for (const auto& p : points) crack.crack.points.push_back(p.point(dim));
     check_crack(item, crack.crack, dim);

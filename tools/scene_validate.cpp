@@ -109,7 +109,7 @@ void check_crack(const Cursor& at, const geometry::Crack& crack, int dim) {
     return;
   }
   if (!geometry::is_planar(crack)) {
-    at.fail("the 4 corners of a 3D crack must lie in one plane and span a quadrilateral");
+    at.fail("the corners of a 3D crack must lie in one plane and span a polygon of non-zero area");
   }
 }
 
