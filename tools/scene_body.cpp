@@ -14,19 +14,6 @@ namespace fs = std::filesystem;
 const std::vector<std::string> kShapePartExtraKeys{"spacing", "mesh", "material"};
 const std::vector<std::string> kFilePartKeys{"points_file", "material"};
 
-std::string read_material_name(const Cursor& material, const Scene& s) {
-  std::vector<std::string> names;
-  for (const auto& m : s.materials) names.push_back(m.name);
-  const std::string name = material.string();
-  if (std::find(names.begin(), names.end(), name) == names.end()) {
-    const auto suggestion = closest_word(name, names);
-    material.fail(fmt::format("material '{}' is not defined in materials{}", name,
-                              suggestion ? fmt::format(", did you mean '{}'?", *suggestion) : ""),
-                  join(names));
-  }
-  return name;
-}
-
 /// `mesh: {size: S, grading: {from: point, rate: r}}`; the size is checked against the box.
 void read_mesh(const Cursor& c, BodyPart& part, int dim) {
   if (dim == 1) c.fail("mesh parts are available in 2D and 3D only; this scene is 1D");
@@ -69,7 +56,7 @@ BodyPart read_shape_part(const Cursor& c, const Scene& s) {
     part.kind = PartKind::Mesh;
     read_mesh(*map.get("mesh"), part, s.dimension);
   }
-  part.material = read_material_name(map.require("material"), s);
+  part.material = material_name(map.require("material"), s);
   return part;
 }
 
@@ -88,7 +75,7 @@ BodyPart read_file_part(const Cursor& c, const Scene& s) {
   if (!fs::is_regular_file(part.points_file))
     file.fail(fmt::format("points file '{}' does not exist (looked for {})", given.string(),
                           part.points_file));
-  if (const auto material = map.get("material")) part.material = read_material_name(*material, s);
+  if (const auto material = map.get("material")) part.material = material_name(*material, s);
   return part;
 }
 
