@@ -122,6 +122,73 @@ SplitResult split_particles(const ParticleStore& p, const std::vector<std::int32
   return r;
 }
 
+namespace {
+
+/// Least-squares gradient G (row-major dim × dim) of u over i's intact own bonds:
+/// G = (Σ η ξᵀ)(Σ ξ ξᵀ)⁻¹. False when the bonds do not span the space.
+bool displacement_gradient(const ParticleStore& p, const BondList& b, std::size_t i, double G[9]) {
+  const int d = p.dim();
+  double A[3][6] = {}, B[3][3] = {};
+  for (auto k = b.offset[i]; k < b.offset[i + 1]; ++k) {
+    if (!b.intact[k]) continue;
+    const auto j = static_cast<std::size_t>(b.neighbor[k]);
+    double xi[3], eta[3];
+    for (int a = 0; a < d; ++a) {
+      xi[a] = p.reference_position[a][j] - p.reference_position[a][i];
+      eta[a] = p.displacement[a][j] - p.displacement[a][i];
+    }
+    for (int r = 0; r < d; ++r)
+      for (int c = 0; c < d; ++c) A[r][c] += xi[r] * xi[c], B[r][c] += eta[r] * xi[c];
+  }
+  // Invert A by Gauss-Jordan on [A | I] with partial pivoting.
+  double scale = 0.0;
+  for (int r = 0; r < d; ++r) A[r][d + r] = 1.0, scale = std::max(scale, A[r][r]);
+  for (int c = 0; c < d; ++c) {
+    int piv = c;
+    for (int r = c + 1; r < d; ++r)
+      if (std::abs(A[r][c]) > std::abs(A[piv][c])) piv = r;
+    if (!(std::abs(A[piv][c]) > 1e-12 * scale)) return false;
+    std::swap(A[c], A[piv]);
+    const double inv = 1.0 / A[c][c];
+    for (int k = 0; k < 2 * d; ++k) A[c][k] *= inv;
+    for (int r = 0; r < d; ++r)
+      if (r != c) {
+        const double f = A[r][c];
+        for (int k = 0; k < 2 * d; ++k) A[r][k] -= f * A[c][k];
+      }
+  }
+  for (int r = 0; r < d; ++r)
+    for (int c = 0; c < d; ++c) {
+      double g = 0.0;
+      for (int k = 0; k < d; ++k) g += B[r][k] * A[k][d + c];
+      G[r * 3 + c] = g;
+    }
+  return true;
+}
+
+}  // namespace
+
+void map_displacement(SplitResult& split, StateMapping mapping, const ParticleStore& old_p,
+                      const BondList& old_bonds) {
+  if (mapping == StateMapping::Copy) return;
+  auto& p = split.particles;
+  const int d = p.dim();
+  const std::size_t per_parent = std::size_t{1} << d;
+  double G[9] = {};
+  for (std::size_t k = split.kept; k < p.size(); ++k) {
+    const auto q = static_cast<std::size_t>(split.previous[k]);
+    if ((k - split.kept) % per_parent == 0 && !displacement_gradient(old_p, old_bonds, q, G))
+      std::fill(std::begin(G), std::end(G), 0.0);
+    for (int r = 0; r < d; ++r) {
+      double du = 0.0;
+      for (int c = 0; c < d; ++c)
+        du += G[r * 3 + c] * (p.reference_position[c][k] - old_p.reference_position[c][q]);
+      p.displacement[r][k] = old_p.displacement[r][q] + du;
+      p.position[r][k] = p.reference_position[r][k] + p.displacement[r][k];
+    }
+  }
+}
+
 bool segments_cross_properly(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
   auto orient = [](const Vec3& p, const Vec3& q, const Vec3& r) {
     return (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]);

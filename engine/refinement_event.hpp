@@ -32,6 +32,19 @@ std::vector<geometry::Vec3> child_offsets(int dim, double dx);
 SplitResult split_particles(const ParticleStore& p, const std::vector<std::int32_t>& parents,
                             const Section& section, std::int32_t next_id);
 
+/// How children get their displacement (velocity is always copied, so momentum and kinetic
+/// energy are conserved exactly either way).
+enum class StateMapping {
+  Copy,    ///< u_child = u_parent (a piecewise-constant field: bonds between children of two
+           ///< parents start with twice the local strain)
+  Linear,  ///< u_child = u_parent + G·(X_child − X_parent), G the least-squares displacement
+           ///< gradient over the parent's intact own bonds (copy when they do not span the space)
+};
+
+/// Applies `mapping` to the children of `split` (displacement and current position only).
+void map_displacement(SplitResult& split, StateMapping mapping, const ParticleStore& old_p,
+                      const BondList& old_bonds);
+
 /// The no-healing rule: sets `bonds.intact` of every bond of the new generation from the broken
 /// bonds of the previous one. A new bond i→j starts broken when
 ///  (a) the endpoints come from two different previous particles P ≠ Q that were bonded (P→Q or

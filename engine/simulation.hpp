@@ -10,6 +10,7 @@
 #include "engine/loads.hpp"
 #include "engine/material_law.hpp"
 #include "engine/particles.hpp"
+#include "engine/refinement_event.hpp"
 #include "engine/settings.hpp"
 #include "engine/timers.hpp"
 #include "geometry/crack.hpp"
@@ -72,11 +73,13 @@ class Simulation {
   void update_damage();
 
   /// Splits the given particles (indices of the current generation) into 2^dim children each
-  /// (split_particles), drops them, rebuilds bonds, dual lists and interaction rows from scratch,
-  /// applies the no-healing rule, re-resolves loads and no_fail from their regions, recomputes
-  /// the stable step and forces, and bumps generation(). Indices change: kept particles keep
-  /// their order, children follow. Refused for constant-horizon (one δ for the whole body).
-  RefinementEvent apply_refinement(const std::vector<std::int32_t>& parents);
+  /// (split_particles; displacement by `mapping`), drops them, rebuilds bonds, dual lists and
+  /// interaction rows from scratch, applies the no-healing rule, re-resolves loads and no_fail from
+  /// their regions, recomputes the stable step and forces, and bumps generation(). Indices change:
+  /// kept particles keep their order, children follow. Refused for constant-horizon (one δ for the
+  /// whole body).
+  RefinementEvent apply_refinement(const std::vector<std::int32_t>& parents,
+                                   StateMapping mapping = StateMapping::Copy);
   /// Number of refinement events applied so far (0 for the scene's particles).
   std::int64_t generation() const { return generation_; }
 

@@ -11,7 +11,8 @@
 
 namespace dhpd {
 
-RefinementEvent Simulation::apply_refinement(const std::vector<std::int32_t>& parents) {
+RefinementEvent Simulation::apply_refinement(const std::vector<std::int32_t>& parents,
+                                             StateMapping mapping) {
   const auto start = std::chrono::steady_clock::now();
   RefinementEvent ev;
   ev.generation = generation_;
@@ -23,6 +24,7 @@ RefinementEvent Simulation::apply_refinement(const std::vector<std::int32_t>& pa
   auto t = timers_.scope(Phase::Refine);
   auto split = split_particles(p_, parents, setup_.section, next_id_);
   next_id_ += static_cast<std::int32_t>(split.children);
+  map_displacement(split, mapping, p_, bonds_);
   BondList old_bonds = std::move(bonds_);
   ParticleStore old_p = std::move(p_);
   p_ = std::move(split.particles);

@@ -70,7 +70,7 @@ std::vector<RefinementEvent> Refiner::refine_zones(Simulation& sim) const {
     }
     const auto parents = graded_parents(sim, std::move(marked), s_.max_level);
     if (parents.empty()) break;
-    events.push_back(sim.apply_refinement(parents));
+    events.push_back(sim.apply_refinement(parents, s_.mapping));
   }
   return events;
 }
@@ -84,7 +84,7 @@ RefinementEvent Refiner::check(Simulation& sim) const {
     none.generation = sim.generation();
     return none;
   }
-  return sim.apply_refinement(parents);
+  return sim.apply_refinement(parents, s_.mapping);
 }
 
 }  // namespace dhpd::refine

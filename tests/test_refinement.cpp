@@ -280,6 +280,37 @@ TEST(Refinement, EnergyAndStretchTriggersAtUniformCriticalStretch) {
   EXPECT_EQ(std::count(on.begin(), on.end(), 1), 0);
 }
 
+TEST(Refinement, LinearMappingPutsChildrenOnAUniformStrainField) {
+  // u = ε (X − o): the linear mapping reproduces it at every child (the copy does not), and both
+  // conserve momentum and kinetic energy because velocities are copied.
+  for (const auto mapping : {StateMapping::Copy, StateMapping::Linear}) {
+    auto s = plate(1e-3, 0.02, 0.01);
+    InitialCondition ic;
+    ic.region = Box{{0, 0, 0}, {0.02, 0.01, 0}};
+    ic.strain = geometry::Vec3{1e-3, -4e-4, 0};
+    ic.origin = {0.01, 0.005, 0};
+    ic.velocity = geometry::Vec3{1.0, 2.0, 0};
+    s.initial_conditions = {ic};
+    Simulation sim(s);
+    const auto before = sim.energies();
+    const auto ev = sim.apply_refinement(all_particles(sim), mapping);
+    const auto after = sim.energies();
+    EXPECT_NEAR(after.kinetic, before.kinetic, 1e-12 * before.kinetic);
+    double worst = 0.0;
+    const auto& p = sim.particles();
+    for (std::size_t k = p.size() - ev.children; k < p.size(); ++k)
+      for (int a = 0; a < 2; ++a) {
+        const double exact = (*ic.strain)[a] * (p.reference_position[a][k] - ic.origin[a]);
+        worst = std::max(worst, std::abs(p.displacement[a][k] - exact));
+      }
+    if (mapping == StateMapping::Linear) {
+      EXPECT_LT(worst, 1e-15);
+    } else {
+      EXPECT_NEAR(worst, 0.25e-3 * 1e-3, 1e-12);  // a quarter cell times the largest strain
+    }
+  }
+}
+
 TEST(Refinement, GradingKeepsNeighboursWithinOneLevel) {
   refine::Settings set;
   set.max_level = 3;

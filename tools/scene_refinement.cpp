@@ -42,9 +42,10 @@ std::optional<RefinementSpec> read_refinement(const Cursor& c, const Scene& s) {
   if (c.node().IsScalar()) {
     if (!c.boolean()) return std::nullopt;
     c.fail("refinement: true says nothing about where to refine; give a map",
-           "false, or {trigger: {damage, energy, stretch}, buffer, max_level, check_every, zones}");
+           "false, or {trigger: {damage, energy, stretch}, buffer, max_level, check_every, zones, "
+           "mapping}");
   }
-  const MapView m(c, {"trigger", "buffer", "max_level", "check_every", "zones"});
+  const MapView m(c, {"trigger", "buffer", "max_level", "check_every", "zones", "mapping"});
   RefinementSpec r;
   r.where = c.where();
   if (const auto v = m.get("trigger")) r.settings.trigger = read_triggers(*v);
@@ -53,6 +54,9 @@ std::optional<RefinementSpec> read_refinement(const Cursor& c, const Scene& s) {
     r.settings.max_level = static_cast<int>(positive_integer(*v));
   if (r.settings.max_level > 8) m.get("max_level")->fail("max_level must be <= 8", "1 to 8");
   if (const auto v = m.get("check_every")) r.settings.check_every = positive_integer(*v);
+  if (const auto v = m.get("mapping"))
+    r.settings.mapping =
+        v->choice({"copy", "linear"}) == 0 ? StateMapping::Copy : StateMapping::Linear;
   if (const auto v = m.get("zones"))
     for (const auto& z : read_regions(*v, s.dimension)) r.settings.zones.push_back(z.shape);
   if (!r.settings.trigger.any() && r.settings.zones.empty())
