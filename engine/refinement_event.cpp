@@ -219,21 +219,27 @@ PairState pair_state(const BondList& b, std::int32_t P, std::int32_t Q, bool one
   return !found ? PairState::None : (broken ? PairState::Broken : PairState::Intact);
 }
 
-/// Broken bonds of the previous generation as planar segments, binned by midpoint.
-class BrokenSegments {
- public:
-  BrokenSegments(const BondList& b, const ParticleStore& p) : p_(p) {
-    for (std::size_t k = 0; k < b.size(); ++k)
-      if (!b.intact[k]) {
-        ends_.push_back({b.owner[k], b.neighbor[k]});
-        cell_ = std::max(cell_, b.length[k]);
-      }
-    for (std::size_t s = 0; s < ends_.size(); ++s) bins_[key(mid(s))].push_back(s);
-  }
-  bool empty() const { return ends_.empty(); }
+/// How many segments of the previous generation properly cross a new segment, and how many of
+/// those were broken.
+struct Crossings {
+  std::size_t all = 0, broken = 0;
+};
 
-  /// Whether a–b properly crosses a broken segment that does not touch `skip` (−1: none).
-  bool crossed(const Vec3& a, const Vec3& b, std::int32_t skip) const {
+/// The bonds of the previous generation as planar segments, binned by midpoint.
+class OldSegments {
+ public:
+  OldSegments(const BondList& b, const ParticleStore& p) : b_(b), p_(p) {
+    for (std::size_t k = 0; k < b.size(); ++k) {
+      cell_ = std::max(cell_, b.length[k]);
+      any_broken_ = any_broken_ || !b.intact[k];
+    }
+    for (std::size_t k = 0; k < b.size() && any_broken_; ++k) bins_[key(mid(k))].push_back(k);
+  }
+  bool any_broken() const { return any_broken_; }
+
+  /// Old bonds that properly cross a–b, skipping those that touch particle `skip` (−1: none).
+  Crossings crossing(const Vec3& a, const Vec3& b, std::int32_t skip) const {
+    Crossings c;
     const Vec3 m = 0.5 * (a + b);
     const double reach = 0.5 * cell_ + 0.5 * norm(b - a);
     const auto lo = cell_of({m[0] - reach, m[1] - reach, 0}),
@@ -242,21 +248,23 @@ class BrokenSegments {
       for (auto cy = lo.second; cy <= hi.second; ++cy) {
         const auto it = bins_.find(pack(cx, cy));
         if (it == bins_.end()) continue;
-        for (const auto s : it->second) {
-          const auto [i, j] = ends_[s];
+        for (const auto k : it->second) {
+          const auto i = b_.owner[k], j = b_.neighbor[k];
           if (i == skip || j == skip) continue;
-          if (segments_cross_properly(a, b, point(p_.reference_position, i),
-                                      point(p_.reference_position, j)))
-            return true;
+          if (!segments_cross_properly(a, b, point(p_.reference_position, i),
+                                       point(p_.reference_position, j)))
+            continue;
+          ++c.all;
+          c.broken += b_.intact[k] ? 0 : 1;
         }
       }
-    return false;
+    return c;
   }
 
  private:
-  Vec3 mid(std::size_t s) const {
-    return 0.5 * (point(p_.reference_position, ends_[s].first) +
-                  point(p_.reference_position, ends_[s].second));
+  Vec3 mid(std::size_t k) const {
+    return 0.5 * (point(p_.reference_position, b_.owner[k]) +
+                  point(p_.reference_position, b_.neighbor[k]));
   }
   std::pair<std::int64_t, std::int64_t> cell_of(const Vec3& x) const {
     return {static_cast<std::int64_t>(std::floor(x[0] / cell_)),
@@ -268,10 +276,11 @@ class BrokenSegments {
     return pack(c.first, c.second);
   }
 
+  const BondList& b_;
   const ParticleStore& p_;
-  std::vector<std::pair<std::int32_t, std::int32_t>> ends_;
   std::unordered_map<std::int64_t, std::vector<std::size_t>> bins_;
   double cell_ = 0.0;
+  bool any_broken_ = false;
 };
 
 }  // namespace
@@ -279,8 +288,8 @@ class BrokenSegments {
 std::int64_t apply_no_healing(BondList& bonds, const ParticleStore& p,
                               const std::vector<std::int32_t>& previous, std::size_t kept,
                               const BondList& old_bonds, const ParticleStore& old_p) {
-  const BrokenSegments broken(old_bonds, old_p);
-  if (broken.empty()) return 0;
+  const OldSegments old(old_bonds, old_p);
+  if (!old.any_broken()) return 0;
   const bool planar = p.dim() == 2;
   std::int64_t count = 0;
   for (std::size_t k = 0; k < bonds.size(); ++k) {
@@ -290,10 +299,12 @@ std::int64_t apply_no_healing(BondList& bonds, const ParticleStore& p,
     const bool both_kept = static_cast<std::size_t>(i) < kept && static_cast<std::size_t>(j) < kept;
     const PairState state = P == Q ? PairState::None : pair_state(old_bonds, P, Q, both_kept);
     bool cut = state == PairState::Broken;
-    if (state == PairState::None && planar)
-      cut =
-          broken.crossed(point(p.reference_position, static_cast<std::size_t>(i)),
-                         point(p.reference_position, static_cast<std::size_t>(j)), P == Q ? P : -1);
+    if (state == PairState::None && planar) {
+      const auto c =
+          old.crossing(point(p.reference_position, static_cast<std::size_t>(i)),
+                       point(p.reference_position, static_cast<std::size_t>(j)), P == Q ? P : -1);
+      cut = P == Q ? 2 * c.broken > c.all : c.broken > 0;
+    }
     bonds.intact[k] = cut ? 0 : 1;
     count += cut ? 1 : 0;
   }
