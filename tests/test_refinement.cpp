@@ -12,27 +12,15 @@
 
 #include "engine/refinement_event.hpp"
 #include "refine/refiner.hpp"
+#include "tests/refine_support.hpp"
 #include "tests/support.hpp"
 
 namespace dhpd {
 namespace {
 
-using geometry::Box;
-
-SimulationSetup plate(double dx, double lx, double ly) {
-  SimulationSetup s;
-  s.section = {2, PlaneMode::Stress, 1e-3, 1.0};
-  s.materials = {{72e9, 2440, 135.0}};
-  s.partial_volume = PartialVolume::Linear;
-  s.points = geometry::fill_lattice({{Box{{0, 0, 0}, {lx, ly, 0}}, dx, 0}}, 2);
-  return s;
-}
-
-std::vector<std::int32_t> all_particles(const Simulation& sim) {
-  std::vector<std::int32_t> all(sim.particles().size());
-  for (std::size_t i = 0; i < all.size(); ++i) all[i] = static_cast<std::int32_t>(i);
-  return all;
-}
+using test::all_particles;
+using test::Box;
+using test::plate;
 
 struct Totals {
   double mass = 0, volume = 0;
@@ -250,46 +238,6 @@ TEST(Refinement, NoIntactBondBetweenPreviouslyBrokenPairsAfterARun) {
   EXPECT_EQ(violations, 0u);
   EXPECT_EQ(intact_crossing(sim, {s.cracks[0]}), 0u);
   EXPECT_GE(sim.broken_bonds(), 300);
-}
-
-TEST(Refinement, MomentumStaysAtRoundOffThroughAnAdaptiveRun) {
-  // The pre-cracked plate under equal and opposite tractions (zero net external force): dozens of
-  // events while the crack runs must keep the momentum at round-off of Σ m |v|.
-  auto s = plate(1e-3, 0.05, 0.02);
-  s.effects.fracture = true;
-  s.cracks = {{{{0, 0.01, 0}, {0.025, 0.01, 0}}}};
-  for (const double y : {0.0, 0.019}) {
-    BoundaryCondition t;
-    t.kind = BoundaryCondition::Kind::Traction;
-    t.region = Box{{0, y, 0}, {0.05, y + 0.001, 0}};
-    t.traction = {0, y > 0 ? 12e6 : -12e6, 0};
-    t.normal_axis = 1;
-    s.boundary_conditions.push_back(t);
-  }
-  s.no_fail = {Box{{0, 0, 0}, {0.05, 0.002, 0}}, Box{{0, 0.018, 0}, {0.05, 0.02, 0}}};
-  Simulation sim(s);
-  refine::Settings set;
-  set.trigger.damage = 0.02;
-  set.check_every = 5;
-  set.mapping = StateMapping::Linear;
-  const refine::Refiner refiner(set);
-  int events = 0;
-  double worst = 0.0;
-  for (int k = 1; k <= 300; ++k) {
-    sim.step();
-    if (refiner.due(k) && refiner.check(sim).parents > 0) ++events;
-    if (k % 20 != 0) continue;
-    const auto e = sim.energies();
-    double scale = 0.0;
-    const auto& p = sim.particles();
-    for (std::size_t i = 0; i < p.size(); ++i)
-      scale += p.density[i] * p.volume[i] * std::hypot(p.velocity[0][i], p.velocity[1][i]);
-    worst = std::max(worst, std::hypot(e.momentum[0], e.momentum[1]) / scale);
-  }
-  std::printf("adaptive run: %d events, %zu particles, worst |P|/sum m|v| %.2e\n", events,
-              sim.particles().size(), worst);
-  EXPECT_GE(events, 12);
-  EXPECT_LT(worst, 1e-13);
 }
 
 TEST(Refinement, EnergyAndStretchTriggersAtUniformCriticalStretch) {
