@@ -87,6 +87,8 @@ class Schedule {
 
 /// The refiner of a scene with effects.refinement and its log (refinement.csv).
 struct RefinementHook {
+  RefinementHook(const refine::Settings& settings, bool echo_lines)
+      : refiner(settings), echo(echo_lines) {}
   refine::Refiner refiner;
   std::vector<RefinementEvent> pending;  ///< zone events applied before the output existed
   std::unique_ptr<io::RefinementWriter> csv;
@@ -246,9 +248,7 @@ void run_scene(const scene::Scene& s, const RunOptions& opt) {
   const auto particles_start = static_cast<std::int64_t>(sim->particles().size());
   std::unique_ptr<RefinementHook> hook;
   if (s.refinement) {
-    hook =
-        std::make_unique<RefinementHook>(RefinementHook{refine::Refiner(s.refinement->settings)});
-    hook->echo = opt.echo;
+    hook = std::make_unique<RefinementHook>(s.refinement->settings, opt.echo);
     hook->pending = hook->refiner.refine_zones(*sim);
   }
   const std::int64_t steps = scene::planned_steps(s, sim->dt());
