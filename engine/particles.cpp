@@ -15,6 +15,8 @@ std::vector<FieldInfo> ParticleStore::fields() {
       {"radius", G::Geometry, S::FromPattern, &radius},
       {"material", G::Geometry, S::Copy, &material},
       {"id", G::Geometry, S::FromPattern, &id},
+      {"level", G::Geometry, S::FromPattern, &level},
+      {"parent_id", G::Geometry, S::FromPattern, &parent_id},
       {"no_fail", G::Geometry, S::Copy, &no_fail},
       {"position", G::State, S::FromPattern, &position},
       {"displacement", G::State, S::Copy, &displacement},

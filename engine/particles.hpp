@@ -41,6 +41,8 @@ class ParticleStore {
   ScalarArray volume, spacing, horizon, density;
   ScalarArray radius;  ///< equal-measure radius r_i of the particle (exact partial volumes)
   IndexArray material, id;
+  IndexArray level;      ///< refinement level: 0 for particles of the scene, +1 per split
+  IndexArray parent_id;  ///< id of the particle this one was split from, −1 for scene particles
   FlagArray no_fail;
   // State (advanced every step).
   VectorArray position;  ///< current position y = X + u

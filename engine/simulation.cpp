@@ -43,8 +43,7 @@ void Simulation::init_particles() {
   p_.resize(n);
   double max_spacing = 0.0;
   for (std::size_t i = 0; i < n; ++i) max_spacing = std::max(max_spacing, pts.spacing[i]);
-  C_.resize(n);
-  s0_.resize(n);
+  next_id_ = static_cast<std::int32_t>(n);
   for (std::size_t i = 0; i < n; ++i) {
     for (int a = 0; a < 3; ++a)
       p_.reference_position[a][i] = p_.position[a][i] = pts.position[i][a];
@@ -57,14 +56,25 @@ void Simulation::init_particles() {
     p_.density[i] = mat.rho;
     p_.material[i] = pts.material[i];
     p_.id[i] = order[i];
-    C_[i] = dhpd::micromodulus(mat, setup_.section, p_.horizon[i]);
-    s0_[i] = mat.G0 > 0 ? dhpd::critical_stretch(mat, setup_.section, p_.horizon[i]) : HUGE_VAL;
+    p_.parent_id[i] = -1;
     const geometry::Vec3 x = pts.position[i];
     for (const auto& region : setup_.no_fail)
       if (region.contains(x, setup_.section.dim)) p_.no_fail[i] = 1;
   }
   set_particle_radii(p_, setup_.section);
+  update_bond_constants();
   for (const auto& ic : setup_.initial_conditions) apply_initial_condition(ic, p_);
+}
+
+void Simulation::update_bond_constants() {
+  const std::size_t n = p_.size();
+  C_.resize(n);
+  s0_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto& mat = setup_.materials.at(static_cast<std::size_t>(p_.material[i]));
+    C_[i] = dhpd::micromodulus(mat, setup_.section, p_.horizon[i]);
+    s0_[i] = mat.G0 > 0 ? dhpd::critical_stretch(mat, setup_.section, p_.horizon[i]) : HUGE_VAL;
+  }
 }
 
 void Simulation::compute_forces() {

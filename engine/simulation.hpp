@@ -10,6 +10,7 @@
 #include "engine/loads.hpp"
 #include "engine/material_law.hpp"
 #include "engine/particles.hpp"
+#include "engine/refinement_event.hpp"
 #include "engine/settings.hpp"
 #include "engine/timers.hpp"
 #include "geometry/crack.hpp"
@@ -39,6 +40,15 @@ struct SimulationSetup {
   bool spatial_sort = true;  ///< Morton-order the particles (ids keep the generation order)
 };
 
+/// What one refinement event did (Simulation::apply_refinement).
+struct RefinementEvent {
+  std::int64_t generation = 0;  ///< the generation the event created
+  std::size_t parents = 0, children = 0;
+  std::size_t bonds = 0;            ///< bonds of the new generation (all rebuilt for now)
+  std::int64_t started_broken = 0;  ///< new bonds set broken by the no-healing rule
+  double seconds = 0.0;
+};
+
 struct Energies {
   double kinetic = 0.0;
   double strain = 0.0;
@@ -62,6 +72,17 @@ class Simulation {
   /// Recomputes p.damage (only meaningful with fracture on).
   void update_damage();
 
+  /// Splits the given particles (indices of the current generation) into 2^dim children each
+  /// (split_particles; displacement by `mapping`), drops them, rebuilds bonds, dual lists and
+  /// interaction rows from scratch, applies the no-healing rule, re-resolves loads and no_fail from
+  /// their regions, recomputes the stable step and forces, and bumps generation(). Indices change:
+  /// kept particles keep their order, children follow. Refused for constant-horizon (one δ for the
+  /// whole body).
+  RefinementEvent apply_refinement(const std::vector<std::int32_t>& parents,
+                                   StateMapping mapping = StateMapping::Copy);
+  /// Number of refinement events applied so far (0 for the scene's particles).
+  std::int64_t generation() const { return generation_; }
+
   const ParticleStore& particles() const { return p_; }
   ParticleStore& particles() { return p_; }
   const BondList& bonds() const { return bonds_; }
@@ -84,6 +105,9 @@ class Simulation {
 
  private:
   void init_particles();
+  void update_bond_constants();
+  void assemble_rows();
+  void refresh_after_rebuild();
   void compute_forces();
   void enforce_prescribed_velocity();
   double boundary_power() const;
@@ -100,6 +124,8 @@ class Simulation {
   double time_ = 0.0, dt_ = 0.0, critical_dt_ = 0.0;
   double external_work_ = 0.0, initial_energy_ = 0.0, last_power_ = 0.0;
   std::int64_t steps_ = 0, broken_ = 0, interaction_updates_ = 0;
+  std::int64_t generation_ = 0;
+  std::int32_t next_id_ = 0;
 };
 
 }  // namespace dhpd

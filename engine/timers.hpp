@@ -6,11 +6,12 @@
 
 namespace dhpd {
 
-enum class Phase { Search, Forces, Fracture, Integrate, Loads, Diagnostics, Output, Count };
+enum class Phase { Search, Forces, Fracture, Integrate, Loads, Diagnostics, Output, Refine, Count };
 
 constexpr std::string_view phase_name(Phase p) {
   constexpr std::array<std::string_view, static_cast<int>(Phase::Count)> names = {
-      "search_and_bonds", "forces", "fracture", "integrate", "loads", "diagnostics", "output"};
+      "search_and_bonds", "forces", "fracture", "integrate", "loads",
+      "diagnostics",      "output", "refine"};
   return names[static_cast<int>(p)];
 }
 

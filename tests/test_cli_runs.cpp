@@ -115,6 +115,37 @@ TEST_F(CliTest, FractureOffIsNamedAndCostsNothing) {
   for (const auto b : broken) EXPECT_EQ(b, 0);
 }
 
+TEST_F(CliTest, AdaptiveRunLogsEventsAndFramesCarryLevels) {
+  const auto dir =
+      run_plate("result", {},
+                {"effects.refinement={trigger: {damage: 0.02}, buffer: 1.0, check_every: 10}",
+                 "model=dual-horizon"});
+  const auto summary = read_json(dir / "summary.json");
+  EXPECT_TRUE(has_effect(summary, "refinement"));
+  const auto events = summary.at("refinement_events").get<long long>();
+  EXPECT_GT(events, 0);
+  const auto end = summary.at("particles_end").get<long long>();
+  EXPECT_GT(end, kPlateParticles);
+  const auto csv = read_text(dir / "refinement.csv");
+  EXPECT_EQ(csv.rfind("generation,step,time,parents,children,particles,bonds,started_broken,dt,"
+                      "seconds\n",
+                      0),
+            0u)
+      << csv;
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), events + 1);
+  const auto particles = read_history(dir / "history.csv").column(3);
+  EXPECT_EQ(particles.front(), kPlateParticles);
+  EXPECT_EQ(particles.back(), end);
+  const auto pvd = dhpd::io::read_pvd((dir / "plate.pvd").string());
+  const auto frame = dhpd::io::read_frame((dir / pvd.back().second).string());
+  EXPECT_EQ(frame.points.size(), 3u * static_cast<std::size_t>(end));
+  const auto& level = frame.fields.at("level").second;
+  const auto& parent = frame.fields.at("parent_id").second;
+  EXPECT_EQ(level.size(), static_cast<std::size_t>(end));
+  EXPECT_EQ(*std::max_element(level.begin(), level.end()), 1.0);
+  EXPECT_EQ(*std::min_element(parent.begin(), parent.end()), -1.0);
+}
+
 TEST_F(CliTest, ThreadCountDoesNotChangeTheOutput) {
   const auto one = run_plate("t1", {"-t", "1"});
   const auto two = run_plate("t2", {"-t", "2"});

@@ -238,6 +238,18 @@ void expect_same_scene(const Scene& a, const Scene& b) {
   EXPECT_EQ(a.partial_volume, b.partial_volume);
   expect_same_regions(a, b);
   EXPECT_EQ(a.effects.fracture, b.effects.fracture);
+  ASSERT_EQ(a.refinement.has_value(), b.refinement.has_value());
+  if (a.refinement) {
+    const auto &ra = a.refinement->settings, &rb = b.refinement->settings;
+    EXPECT_EQ(ra.trigger.damage, rb.trigger.damage);
+    EXPECT_EQ(ra.trigger.energy, rb.trigger.energy);
+    EXPECT_EQ(ra.trigger.stretch, rb.trigger.stretch);
+    EXPECT_EQ(ra.buffer, rb.buffer);
+    EXPECT_EQ(ra.max_level, rb.max_level);
+    EXPECT_EQ(ra.check_every, rb.check_every);
+    EXPECT_EQ(ra.zones.size(), rb.zones.size());
+    EXPECT_EQ(ra.mapping, rb.mapping);
+  }
   EXPECT_EQ(a.time.end, b.time.end);
   EXPECT_EQ(a.time.steps, b.time.steps);
   EXPECT_EQ(a.time.safety, b.time.safety);
@@ -277,7 +289,12 @@ INSTANTIATE_TEST_SUITE_P(
             "velocity: {y: -0.5, z: 0.25}}\n  - {region: {shape: box, min: [0, 0, 0.9], "
             "max: [1, 1, 1]}, traction: [0, 0, 3e5], normal: z}\n"
             "effects: {fracture: true}\ntime: {end: 3e-6}\n",
-        std::string(kShapeScene2D), std::string(kShapeScene3D)));
+        std::string(kShapeScene2D), std::string(kShapeScene3D),
+        std::string(kMinimal) +
+            "effects:\n  fracture: true\n  refinement:\n    trigger: {damage: 0.05, stretch: 0.8}\n"
+            "    buffer: 1.5\n    max_level: 2\n    check_every: 5\n    mapping: linear\n"
+            "    zones: [{shape: disk, center: [0.5, 0.5], radius: 0.2}]\n",
+        std::string(kMinimal) + "effects: {refinement: false}\n"));
 
 TEST(SceneResolved, FillsDefaultsAndImpliedPoissonRatio) {
   const std::string text = resolved_yaml(parse_scene(kMinimal, "min.yaml"));

@@ -51,6 +51,8 @@ PointField one_field(Simulation& sim, const std::string& name) {
   if (name == "spacing") return scalar_field(name, p.spacing);
   if (name == "material") return index_field(name, p.material);
   if (name == "id") return index_field(name, p.id);
+  if (name == "level") return index_field(name, p.level);
+  if (name == "parent_id") return index_field(name, p.parent_id);
   if (name == "no_fail") return index_field(name, p.no_fail);
   if (name == "micromodulus") return scalar_field(name, sim.micromodulus());
   if (name == "critical_stretch") return scalar_field(name, sim.critical_stretch());

@@ -60,6 +60,20 @@ void HistoryWriter::write(const HistoryRow& row) {
   if (!out_) throw std::runtime_error("cannot write history row");
 }
 
+RefinementWriter::RefinementWriter(const std::string& path) : out_(path, std::ios::trunc) {
+  out_ << "generation,step,time,parents,children,particles,bonds,started_broken,dt,seconds\n";
+  out_.flush();
+  if (!out_) throw std::runtime_error(fmt::format("cannot write refinement file '{}'", path));
+}
+
+void RefinementWriter::write(const RefinementRow& r) {
+  out_ << fmt::format("{},{},{:.17g},{},{},{},{},{},{:.17g},{:.6g}\n", r.generation, r.step, r.time,
+                      r.parents, r.children, r.particles, r.bonds, r.started_broken, r.dt,
+                      r.seconds);
+  out_.flush();
+  if (!out_) throw std::runtime_error("cannot write refinement row");
+}
+
 void write_summary(const std::string& path, const Summary& s) {
   nlohmann::ordered_json j;
   j["scene"] = s.scene_name;
@@ -75,6 +89,7 @@ void write_summary(const std::string& path, const Summary& s) {
   j["particles_end"] = s.particles_end;
   j["bonds"] = s.bonds;
   j["broken_bonds"] = s.broken_bonds;
+  j["refinement_events"] = s.refinement_events;
   j["bond_updates_per_second"] = s.bond_updates_per_second;
   j["particle_steps_per_second"] = s.particle_steps_per_second;
   j["threads"] = s.threads;

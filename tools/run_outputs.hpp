@@ -25,6 +25,24 @@ class HistoryWriter {
   std::ofstream out_;
 };
 
+/// One row of refinement.csv: what an event did and when.
+struct RefinementRow {
+  std::int64_t generation = 0, step = 0;
+  double time = 0;
+  std::int64_t parents = 0, children = 0, particles = 0, bonds = 0, started_broken = 0;
+  double dt = 0, seconds = 0;
+};
+
+/// refinement.csv with a fixed header, flushed per row.
+class RefinementWriter {
+ public:
+  explicit RefinementWriter(const std::string& path);
+  void write(const RefinementRow& row);
+
+ private:
+  std::ofstream out_;
+};
+
 struct PhaseSeconds {
   std::string name;
   double seconds = 0;
@@ -34,6 +52,7 @@ struct Summary {
   std::string scene_name, scene_file, status = "completed", message;
   double wall_seconds = 0;
   std::int64_t steps = 0, particles_start = 0, particles_end = 0, bonds = 0, broken_bonds = 0;
+  std::int64_t refinement_events = 0;
   double end_time = 0, dt = 0, critical_dt = 0;
   double bond_updates_per_second = 0, particle_steps_per_second = 0;
   int threads = 1;

@@ -6,9 +6,12 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iostream>
+#include <memory>
 
 #include "engine/errors.hpp"
+#include "refine/refiner.hpp"
 #include "tools/frame_fields.hpp"
 #include "tools/run_outputs.hpp"
 #include "tools/scene_build.hpp"
@@ -41,6 +44,79 @@ std::vector<std::int64_t> frame_steps(const scene::Scene& s, std::int64_t total)
   if (total > 0) out.push_back(total);
   return out;
 }
+
+/// When a run ends and frames are due. A run with refinement and `time.end` runs to the end time
+/// (dt changes at events), with `output.frames` spread over time; otherwise steps are planned.
+class Schedule {
+ public:
+  Schedule(const scene::Scene& s, std::int64_t planned, bool by_time)
+      : s_(s), planned_(planned), by_time_(by_time) {
+    if (!by_time_) {
+      steps_ = frame_steps(s, planned);
+    } else if (!s.output.every) {
+      const std::int64_t frames = s.output.frames.value_or(20);
+      for (std::int64_t k = 1; k < frames; ++k)
+        times_.push_back(*s.time.end * static_cast<double>(k) / static_cast<double>(frames));
+    }
+  }
+  bool finished(std::int64_t k, double t) const {
+    return by_time_ ? t >= *s_.time.end * (1.0 - 1e-12) : k >= planned_;
+  }
+  /// Whether step k (just done, at time t) writes a frame; call once per step.
+  bool frame(std::int64_t k, double t) {
+    if (finished(k, t)) return true;
+    if (!by_time_) {
+      const bool due = next_ < steps_.size() && steps_[next_] == k;
+      next_ += due ? 1 : 0;
+      return due;
+    }
+    if (s_.output.every) return k % *s_.output.every == 0;
+    bool due = false;
+    while (next_ < times_.size() && t >= times_[next_] * (1.0 - 1e-12)) due = true, ++next_;
+    return due;
+  }
+
+ private:
+  const scene::Scene& s_;
+  std::int64_t planned_;
+  bool by_time_;
+  std::vector<std::int64_t> steps_;
+  std::vector<double> times_;
+  std::size_t next_ = 0;
+};
+
+/// The refiner of a scene with effects.refinement and its log (refinement.csv).
+struct RefinementHook {
+  RefinementHook(const refine::Settings& settings, bool echo_lines)
+      : refiner(settings), echo(echo_lines) {}
+  refine::Refiner refiner;
+  std::vector<RefinementEvent> pending;  ///< zone events applied before the output existed
+  std::unique_ptr<io::RefinementWriter> csv;
+  bool echo = true;
+  std::int64_t events = 0;
+
+  void log(const Simulation& sim, const RefinementEvent& ev) {
+    io::RefinementRow r;
+    r.generation = ev.generation;
+    r.step = sim.steps_done();
+    r.time = sim.time();
+    r.parents = static_cast<std::int64_t>(ev.parents);
+    r.children = static_cast<std::int64_t>(ev.children);
+    r.particles = static_cast<std::int64_t>(sim.particles().size());
+    r.bonds = static_cast<std::int64_t>(ev.bonds);
+    r.started_broken = ev.started_broken;
+    r.dt = sim.dt();
+    r.seconds = ev.seconds;
+    csv->write(r);
+    ++events;
+    if (echo)
+      fmt::print(
+          "dhpd: refinement {} at step {} (t = {:.4g} s): {} parents -> {} children; {} "
+          "particles, {} bonds rebuilt ({} start broken); dt = {:.4g} s; {:.3f} s\n",
+          r.generation, r.step, r.time, r.parents, r.children, r.particles, r.bonds,
+          r.started_broken, r.dt, r.seconds);
+  }
+};
 
 io::HistoryRow history_row(const Simulation& sim, const Energies& e) {
   io::HistoryRow r;
@@ -104,6 +180,7 @@ io::Summary make_summary(const scene::Scene& s, const Simulation& sim, double wa
   sum.threads = omp_get_max_threads();
   sum.active_effects.push_back("elasticity");
   if (s.effects.fracture) sum.active_effects.push_back("fracture");
+  if (s.refinement) sum.active_effects.push_back("refinement");
   for (int p = 0; p < static_cast<int>(Phase::Count); ++p)
     sum.phases.push_back({std::string(phase_name(static_cast<Phase>(p))),
                           sim.timers().seconds(static_cast<Phase>(p))});
@@ -128,8 +205,9 @@ void log_start(const scene::Scene& s, const Simulation& sim, std::int64_t steps,
       "dhpd: {} particles, {} bonds, {} interactions; dt = {:.4g} s (stable {:.4g} s), {} steps\n",
       sim.particles().size(), sim.bonds().size(), sim.interactions().size(), sim.dt(),
       sim.critical_dt(), steps);
-  fmt::print("dhpd: active effects: elasticity{}; threads {}; output in {}\n",
-             s.effects.fracture ? ", fracture" : "", omp_get_max_threads(), dir.string());
+  fmt::print("dhpd: active effects: elasticity{}{}; threads {}; output in {}\n",
+             s.effects.fracture ? ", fracture" : "", s.refinement ? ", refinement" : "",
+             omp_get_max_threads(), dir.string());
 }
 
 void log_end(const io::Summary& sum) {
@@ -143,12 +221,36 @@ void log_end(const io::Summary& sum) {
   fmt::print("dhpd: time per phase:{}\n", phases);
 }
 
+/// Steps until the schedule says the run is over; refinement checks after each due step.
+void time_loop(RunContext& ctx, RefinementHook* hook, Schedule& schedule, io::Progress& progress,
+               const std::function<double()>& elapsed) {
+  auto& sim = ctx.sim;
+  ctx.record(true);
+  for (std::int64_t k = 1; !schedule.finished(k - 1, sim.time()); ++k) {
+    sim.step();
+    if (hook && hook->refiner.due(k)) {
+      const auto ev = hook->refiner.check(sim);
+      if (ev.parents > 0) hook->log(sim, ev);
+    }
+    const bool frame = schedule.frame(k, sim.time());
+    if (frame || k % ctx.scene.output.history_every == 0) ctx.record(frame);
+    progress.update(k, sim.time(), sim.broken_bonds(), elapsed());
+  }
+  progress.finish();
+}
+
 }  // namespace
 
 void run_scene(const scene::Scene& s, const RunOptions& opt) {
   if (opt.threads > 0) omp_set_num_threads(opt.threads);
   const auto start = Clock::now();
   auto sim = scene::build_simulation(s);  // every check happens here, before any output
+  const auto particles_start = static_cast<std::int64_t>(sim->particles().size());
+  std::unique_ptr<RefinementHook> hook;
+  if (s.refinement) {
+    hook = std::make_unique<RefinementHook>(s.refinement->settings, opt.echo);
+    hook->pending = hook->refiner.refine_zones(*sim);
+  }
   const std::int64_t steps = scene::planned_steps(s, sim->dt());
   const fs::path dir = opt.output_directory.value_or(s.output.directory);
   fs::create_directories(dir);
@@ -157,7 +259,10 @@ void run_scene(const scene::Scene& s, const RunOptions& opt) {
   write_text(dir / "scene.resolved.yaml",
              scene::resolved_yaml(resolved) + "---\n" + scene::derived_yaml(s, *sim));
   if (opt.echo) log_start(s, *sim, steps, dir);
-  const auto particles_start = static_cast<std::int64_t>(sim->particles().size());
+  if (hook) {
+    hook->csv = std::make_unique<io::RefinementWriter>((dir / "refinement.csv").string());
+    for (const auto& ev : hook->pending) hook->log(*sim, ev);
+  }
   RunContext ctx{s,
                  *sim,
                  dir,
@@ -165,30 +270,26 @@ void run_scene(const scene::Scene& s, const RunOptions& opt) {
                  io::HistoryWriter((dir / "history.csv").string()),
                  output_field_names(s),
                  steps};
+  Schedule schedule(s, steps, s.refinement && s.time.end);
   io::Progress progress(steps, opt.progress && io::Progress::wanted());
   auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
+  auto summary = [&](const char* status) {
+    auto sum = make_summary(s, *sim, elapsed(), particles_start);
+    sum.status = status;
+    sum.refinement_events = hook ? hook->events : 0;
+    return sum;
+  };
   try {
-    ctx.record(true);
-    const auto frames_at = frame_steps(s, steps);
-    std::size_t next_frame = 0;
-    for (std::int64_t k = 1; k <= steps; ++k) {
-      sim->step();
-      const bool frame = next_frame < frames_at.size() && frames_at[next_frame] == k;
-      next_frame += frame ? 1 : 0;
-      if (frame || k % s.output.history_every == 0 || k == steps) ctx.record(frame);
-      progress.update(k, sim->time(), sim->broken_bonds(), elapsed());
-    }
-    progress.finish();
+    time_loop(ctx, hook.get(), schedule, progress, elapsed);
   } catch (const InstabilityError& e) {
     progress.finish();
-    auto sum = make_summary(s, *sim, elapsed(), particles_start);
-    sum.status = "unstable";
+    auto sum = summary("unstable");
     sum.message = e.what();
     io::write_summary((dir / "summary.json").string(), sum);
     if (opt.echo) log_end(sum);
     throw;
   }
-  const auto sum = make_summary(s, *sim, elapsed(), particles_start);
+  const auto sum = summary("completed");
   io::write_summary((dir / "summary.json").string(), sum);
   if (opt.echo) log_end(sum);
 }

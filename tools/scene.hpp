@@ -15,6 +15,7 @@
 #include "geometry/crack.hpp"
 #include "geometry/mesh_points.hpp"
 #include "geometry/shapes.hpp"
+#include "refine/refiner.hpp"
 
 namespace dhpd::scene {
 
@@ -96,6 +97,12 @@ struct OutputSpec {
   std::int64_t history_every = 10;
 };
 
+/// `effects.refinement` (cases/README.md): absent or `false` means no refiner at all.
+struct RefinementSpec {
+  refine::Settings settings;
+  Location where;  ///< of the `refinement` key
+};
+
 /// The point fields every frame carries, and the extra ones `output.fields` may ask for.
 const std::vector<std::string>& default_fields();
 const std::vector<std::string>& optional_fields();
@@ -118,6 +125,7 @@ struct Scene {
   std::vector<LocatedInitialCondition> initial_conditions;
   std::vector<LocatedBoundaryCondition> boundary_conditions;
   Effects effects;
+  std::optional<RefinementSpec> refinement;
   TimeSpec time;
   OutputSpec output;
 };

@@ -126,6 +126,9 @@ std::string material_name(const Cursor& c, const Scene& s);
 std::vector<LocatedInitialCondition> read_initial_conditions(const Cursor& c, int dim);
 std::vector<LocatedBoundaryCondition> read_boundary_conditions(const Cursor& c, int dim);
 
+/// `effects.refinement` (scene_refinement.cpp); body and model must already be read.
+std::optional<RefinementSpec> read_refinement(const Cursor& c, const Scene& s);
+
 /// The `body` list (scene_body.cpp); materials must already be read.
 std::vector<BodyPart> read_body(const Cursor& c, const Scene& s);
 

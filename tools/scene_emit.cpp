@@ -219,6 +219,39 @@ void emit_output(YAML::Emitter& out, const OutputSpec& output) {
   out << YAML::EndMap;
 }
 
+void emit_effects(YAML::Emitter& out, const Scene& s) {
+  out << YAML::Key << "effects" << YAML::Value << YAML::BeginMap;
+  out << YAML::Key << "fracture" << YAML::Value << s.effects.fracture;
+  out << YAML::Key << "refinement" << YAML::Value;
+  if (!s.refinement) {
+    out << false << YAML::EndMap;
+    return;
+  }
+  const auto& r = s.refinement->settings;
+  out << YAML::BeginMap;
+  if (r.trigger.any()) {
+    out << YAML::Key << "trigger" << YAML::Value << YAML::Flow << YAML::BeginMap;
+    if (r.trigger.damage)
+      out << YAML::Key << "damage" << YAML::Value << number_text(*r.trigger.damage);
+    if (r.trigger.energy)
+      out << YAML::Key << "energy" << YAML::Value << number_text(*r.trigger.energy);
+    if (r.trigger.stretch)
+      out << YAML::Key << "stretch" << YAML::Value << number_text(*r.trigger.stretch);
+    out << YAML::EndMap;
+  }
+  out << YAML::Key << "buffer" << YAML::Value << number_text(r.buffer);
+  out << YAML::Key << "max_level" << YAML::Value << r.max_level;
+  out << YAML::Key << "check_every" << YAML::Value << r.check_every;
+  out << YAML::Key << "mapping" << YAML::Value
+      << (r.mapping == StateMapping::Copy ? "copy" : "linear");
+  if (!r.zones.empty()) {
+    out << YAML::Key << "zones" << YAML::Value << YAML::BeginSeq;
+    for (const auto& z : r.zones) emit_region(out, z, s.dimension);
+    out << YAML::EndSeq;
+  }
+  out << YAML::EndMap << YAML::EndMap;
+}
+
 }  // namespace
 
 std::string resolved_yaml(const Scene& s) {
@@ -245,8 +278,7 @@ std::string resolved_yaml(const Scene& s) {
     for (const auto& bc : s.boundary_conditions) emit_boundary_condition(out, bc.bc, s.dimension);
     out << YAML::EndSeq;
   }
-  out << YAML::Key << "effects" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key
-      << "fracture" << YAML::Value << s.effects.fracture << YAML::EndMap;
+  emit_effects(out, s);
   emit_time(out, s.time);
   emit_output(out, s.output);
   out << YAML::EndMap;

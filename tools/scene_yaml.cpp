@@ -13,7 +13,8 @@ namespace dhpd::scene {
 
 const std::vector<std::string>& default_fields() {
   static const std::vector<std::string> fields{"displacement", "velocity", "damage",   "horizon",
-                                               "volume",       "spacing",  "material", "id"};
+                                               "volume",       "spacing",  "material", "id",
+                                               "level",        "parent_id"};
   return fields;
 }
 
@@ -209,12 +210,17 @@ Scene read_scene(const Cursor& root, const std::string& file) {
   s.name = detail::scene_name(top.require("name"));
   s.dimension = detail::dimension(top.require("dimension"));
   read_section(top, s);
-  if (const auto effects = top.get("effects"))
-    if (const auto fracture = MapView(*effects, {"fracture"}).get("fracture"))
-      s.effects.fracture = fracture->boolean();
+  const auto effects = top.get("effects");
+  std::optional<MapView> effect_map;
+  if (effects) effect_map.emplace(*effects, std::vector<std::string>{"fracture", "refinement"});
+  if (effect_map)
+    if (const auto fracture = effect_map->get("fracture")) s.effects.fracture = fracture->boolean();
   s.materials = read_materials(top.require("materials"), s);
   s.body = detail::read_body(top.require("body"), s);
   read_discretisation(top, s);
+  if (effect_map)
+    if (const auto refinement = effect_map->get("refinement"))
+      s.refinement = detail::read_refinement(*refinement, s);
   read_regions_and_loads(top, s);
   s.time = read_time(top.require("time"));
   if (const auto output = top.get("output")) {

@@ -1,0 +1,90 @@
+// Parent selection for refinement events: buffer, grading, level limit (dhpd.md §8).
+#include "refine/refiner.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "engine/neighbor_search.hpp"
+
+namespace dhpd::refine {
+
+void add_buffer(const ParticleStore& p, double buffer, std::vector<std::uint8_t>& marked) {
+  if (buffer <= 0.0 || std::find(marked.begin(), marked.end(), 1) == marked.end()) return;
+  const NeighborSearch search(p.reference_position, p.dim());
+  const auto seeds = marked;
+  std::vector<std::int32_t> near;
+  for (std::size_t t = 0; t < p.size(); ++t) {
+    if (!seeds[t]) continue;
+    search.within(t, buffer * p.horizon[t], near);
+    for (const auto j : near) marked[static_cast<std::size_t>(j)] = 1;
+  }
+}
+
+std::vector<std::int32_t> graded_parents(const Simulation& sim, std::vector<std::uint8_t> marked,
+                                         int max_level) {
+  const auto& p = sim.particles();
+  const auto& level = p.level;
+  std::vector<std::int32_t> work;
+  for (std::size_t i = 0; i < marked.size(); ++i) {
+    if (marked[i] && level[i] >= max_level) marked[i] = 0;
+    if (marked[i]) work.push_back(static_cast<std::int32_t>(i));
+  }
+  if (work.empty()) return {};
+  // Bonds after the split reach at most max(δ_i, δ_q) + one parent spacing (children offsets and
+  // radii): every q that close is a neighbour of i's children.
+  const NeighborSearch search(p.reference_position, p.dim());
+  const double max_horizon = *std::max_element(p.horizon.begin(), p.horizon.end());
+  std::vector<std::int32_t> near;
+  while (!work.empty()) {
+    const auto i = static_cast<std::size_t>(work.back());
+    work.pop_back();
+    search.within(i, max_horizon + p.spacing[i], near);
+    for (const auto qi : near) {
+      const auto q = static_cast<std::size_t>(qi);
+      // The children of i sit at level[i] + 1: a neighbour at level[i] − 1 or below must split.
+      if (marked[q] || level[q] >= level[i]) continue;
+      double d2 = 0.0;
+      for (int a = 0; a < p.dim(); ++a)
+        d2 += std::pow(p.reference_position[a][q] - p.reference_position[a][i], 2);
+      if (std::sqrt(d2) > std::max(p.horizon[i], p.horizon[q]) + p.spacing[i]) continue;
+      marked[q] = 1;
+      work.push_back(qi);
+    }
+  }
+  std::vector<std::int32_t> out;
+  for (std::size_t i = 0; i < marked.size(); ++i)
+    if (marked[i]) out.push_back(static_cast<std::int32_t>(i));
+  return out;
+}
+
+std::vector<RefinementEvent> Refiner::refine_zones(Simulation& sim) const {
+  std::vector<RefinementEvent> events;
+  for (int pass = 0; pass < s_.max_level && !s_.zones.empty(); ++pass) {
+    const auto& p = sim.particles();
+    std::vector<std::uint8_t> marked(p.size(), 0);
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      const geometry::Vec3 x{p.reference_position[0][i], p.reference_position[1][i],
+                             p.reference_position[2][i]};
+      for (const auto& z : s_.zones)
+        if (z.contains(x, p.dim())) marked[i] = 1;
+    }
+    const auto parents = graded_parents(sim, std::move(marked), s_.max_level);
+    if (parents.empty()) break;
+    events.push_back(sim.apply_refinement(parents, s_.mapping));
+  }
+  return events;
+}
+
+RefinementEvent Refiner::check(Simulation& sim) const {
+  auto marked = triggered(sim, s_.trigger);
+  add_buffer(sim.particles(), s_.buffer, marked);
+  const auto parents = graded_parents(sim, std::move(marked), s_.max_level);
+  if (parents.empty()) {
+    RefinementEvent none;
+    none.generation = sim.generation();
+    return none;
+  }
+  return sim.apply_refinement(parents, s_.mapping);
+}
+
+}  // namespace dhpd::refine

@@ -1,0 +1,49 @@
+// The refiner: triggers + buffer + grading + level limit pick the parents of an event, which the
+// Simulation then applies (dhpd.md §8; IJNME 2016 §5.3).
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "engine/simulation.hpp"
+#include "geometry/shapes.hpp"
+#include "refine/triggers.hpp"
+
+namespace dhpd::refine {
+
+struct Settings {
+  Triggers trigger;
+  double buffer = 1.0;  ///< particles within buffer × δ_t of a triggered particle t split too
+  int max_level = 1;    ///< a particle at this level is never split again
+  std::int64_t check_every = 10;
+  std::vector<geometry::Shape> zones;  ///< refined at start, up to max_level
+  StateMapping mapping = StateMapping::Copy;
+};
+
+/// Adds to `marked` every particle within buffer × δ_t (reference positions) of a marked t.
+void add_buffer(const ParticleStore& p, double buffer, std::vector<std::uint8_t>& marked);
+
+/// The parents of an event: the marked particles below max_level, plus, repeatedly, every
+/// particle two or more levels coarser than a parent's children within bond reach of them
+/// (max(δ_i, δ_q) + Δx_i). After the event no particle is bonded to one more than one level finer
+/// or coarser, provided that held before. Sorted ascending.
+std::vector<std::int32_t> graded_parents(const Simulation& sim, std::vector<std::uint8_t> marked,
+                                         int max_level);
+
+class Refiner {
+ public:
+  explicit Refiner(Settings s) : s_(std::move(s)) {}
+  const Settings& settings() const { return s_; }
+
+  /// Splits the zones' particles, level by level up to max_level; one event per level.
+  std::vector<RefinementEvent> refine_zones(Simulation& sim) const;
+  /// Whether the refiner checks after `step` (steps counted from 1).
+  bool due(std::int64_t step) const { return s_.trigger.any() && step % s_.check_every == 0; }
+  /// Triggers, buffer and grading; applies the event when there are parents (parents == 0 in
+  /// the returned event otherwise).
+  RefinementEvent check(Simulation& sim) const;
+
+ private:
+  Settings s_;
+};
+
+}  // namespace dhpd::refine

@@ -1,0 +1,32 @@
+// Refinement triggers (dhpd.md §8; IJNME 2016 §5.3): damage, strain-energy density relative to
+// the critical energy density, and bond stretch relative to the critical stretch.
+#pragma once
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "engine/simulation.hpp"
+
+namespace dhpd::refine {
+
+/// Dimensionless thresholds; an absent one is not tested. A particle is triggered when any
+/// present one is reached.
+struct Triggers {
+  std::optional<double> damage;   ///< φ_i ≥ φ*
+  std::optional<double> energy;   ///< W_i ≥ w* · W_crit,i
+  std::optional<double> stretch;  ///< max over intact own bonds of s ≥ s* · s0_i
+  bool any() const { return damage || energy || stretch; }
+};
+
+/// W_crit,i: the DH-PD strain-energy density of particle i when every bond of its horizon is at
+/// its critical stretch, Σ_j ½ C_i s0_i² |ξ_ij| β_ij V_j over all its own bonds (broken ones
+/// included: the reference horizon). Infinite for a material without G0.
+std::vector<double> critical_energy_density(const Simulation& sim);
+
+/// Largest stretch over each particle's intact own bonds (0 when it has none).
+std::vector<double> max_bond_stretch(const Simulation& sim);
+
+/// 1 for every particle that reaches a threshold (damage is recomputed first).
+std::vector<std::uint8_t> triggered(Simulation& sim, const Triggers& t);
+
+}  // namespace dhpd::refine
