@@ -1,6 +1,8 @@
 // Splitting by the field registry and the no-healing rule (dhpd.md §8; IJNME 2016 §5.3).
 #include "engine/refinement_event.hpp"
 
+#include "geometry/predicates.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <string_view>
@@ -190,14 +192,11 @@ void map_displacement(SplitResult& split, StateMapping mapping, const ParticleSt
 }
 
 bool segments_cross_properly(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
-  auto orient = [](const Vec3& p, const Vec3& q, const Vec3& r) {
-    return (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]);
-  };
   // Relative tolerance: collinear or touching configurations (lattice points in a row, shared
   // endpoints) are not proper crossings even when round-off gives them a sign.
   const double tol = 1e-9 * norm(b - a) * norm(d - c);
-  const double o1 = orient(a, b, c), o2 = orient(a, b, d);
-  const double o3 = orient(c, d, a), o4 = orient(c, d, b);
+  const double o1 = geometry::orient2d(a, b, c), o2 = geometry::orient2d(a, b, d);
+  const double o3 = geometry::orient2d(c, d, a), o4 = geometry::orient2d(c, d, b);
   auto opposite = [tol](double x, double y) {
     return (x > tol && y < -tol) || (x < -tol && y > tol);
   };

@@ -1,6 +1,8 @@
 // Shape evaluation (containment, bounds) and the polygon checks the scene validator uses.
 #include "geometry/shapes.hpp"
 
+#include "geometry/predicates.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -54,26 +56,6 @@ Box polygon_bounds(const std::vector<Vec3>& points) {
     for (int a = 0; a < 2; ++a)
       box.min[a] = std::min(box.min[a], p[a]), box.max[a] = std::max(box.max[a], p[a]);
   return box;
-}
-
-/// z component of (b − a) × (c − a): > 0 when a, b, c turn left.
-double orient(const Vec3& a, const Vec3& b, const Vec3& c) {
-  return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
-}
-
-/// p lies on the closed segment [a, b].
-bool on_segment(const Vec3& a, const Vec3& b, const Vec3& p) {
-  return orient(a, b, p) == 0.0 && p[0] >= std::min(a[0], b[0]) && p[0] <= std::max(a[0], b[0]) &&
-         p[1] >= std::min(a[1], b[1]) && p[1] <= std::max(a[1], b[1]);
-}
-
-/// The closed segments [a, b] and [c, d] share at least one point.
-bool segments_meet(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
-  const double o1 = orient(a, b, c), o2 = orient(a, b, d);
-  const double o3 = orient(c, d, a), o4 = orient(c, d, b);
-  if (((o1 > 0 && o2 < 0) || (o1 < 0 && o2 > 0)) && ((o3 > 0 && o4 < 0) || (o3 < 0 && o4 > 0)))
-    return true;
-  return on_segment(a, b, c) || on_segment(a, b, d) || on_segment(c, d, a) || on_segment(c, d, b);
 }
 
 }  // namespace
@@ -210,19 +192,7 @@ Box Shape::bounds(int index, int dim) const {
 }
 
 bool polygon_contains(const std::vector<Vec3>& polygon, const Vec3& p) {
-  const std::size_t n = polygon.size();
-  bool inside = false;
-  for (std::size_t i = 0, j = n - 1; i < n; j = i++) {
-    const Vec3& a = polygon[j];
-    const Vec3& b = polygon[i];
-    if (on_segment(a, b, p)) return true;
-    // Crossing rule: count edges that straddle the horizontal line through p to its right.
-    if ((a[1] > p[1]) != (b[1] > p[1])) {
-      const double x = a[0] + (p[1] - a[1]) * (b[0] - a[0]) / (b[1] - a[1]);
-      if (p[0] < x) inside = !inside;
-    }
-  }
-  return inside;
+  return polygon_contains2d(polygon, p);
 }
 
 std::optional<std::pair<int, int>> polygon_self_intersection(const std::vector<Vec3>& polygon) {
@@ -232,14 +202,14 @@ std::optional<std::pair<int, int>> polygon_self_intersection(const std::vector<V
     for (int j = i + 1; j < n; ++j) {
       const bool adjacent = j == i + 1 || (i == 0 && j == n - 1);
       if (!adjacent) {
-        if (segments_meet(at(i), at(i + 1), at(j), at(j + 1))) return std::make_pair(i, j);
+        if (segments_meet2d(at(i), at(i + 1), at(j), at(j + 1))) return std::make_pair(i, j);
         continue;
       }
       // Adjacent edges share one vertex; they overlap when they fold back along one line.
       const Vec3& shared = j == i + 1 ? at(j) : at(i);
       const Vec3& u = j == i + 1 ? at(i) : at(i + 1);
       const Vec3& w = j == i + 1 ? at(j + 1) : at(j);
-      if (orient(u, shared, w) == 0.0 && dot(u - shared, w - shared) > 0.0)
+      if (orient2d(u, shared, w) == 0.0 && dot(u - shared, w - shared) > 0.0)
         return std::make_pair(i, j);
     }
   return std::nullopt;

@@ -20,6 +20,24 @@ inline SimulationSetup plate(double dx, double lx, double ly) {
   return s;
 }
 
+/// The 50 mm × 20 mm plate with a 25 mm pre-crack at mid-height, ±12 MPa on its top and bottom
+/// millimetre (zero net force), no-fail edge strips and fracture on.
+inline SimulationSetup pulled_cracked_plate(double dx) {
+  auto s = plate(dx, 0.05, 0.02);
+  s.effects.fracture = true;
+  s.cracks = {{{{0, 0.01, 0}, {0.025, 0.01, 0}}}};
+  for (const double y : {0.0, 0.019}) {
+    BoundaryCondition t;
+    t.kind = BoundaryCondition::Kind::Traction;
+    t.region = Box{{0, y, 0}, {0.05, y + 0.001, 0}};
+    t.traction = {0, y > 0 ? 12e6 : -12e6, 0};
+    t.normal_axis = 1;
+    s.boundary_conditions.push_back(t);
+  }
+  s.no_fail = {Box{{0, 0, 0}, {0.05, 0.002, 0}}, Box{{0, 0.018, 0}, {0.05, 0.02, 0}}};
+  return s;
+}
+
 /// Every particle index of the current generation.
 inline std::vector<std::int32_t> all_particles(const Simulation& sim) {
   std::vector<std::int32_t> all(sim.particles().size());

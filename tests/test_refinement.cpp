@@ -194,18 +194,7 @@ TEST(Refinement, SeparatedPlateStaysSeparatedAfterRefiningAroundTheCrack) {
 }
 
 TEST(Refinement, NoIntactBondBetweenPreviouslyBrokenPairsAfterARun) {
-  auto s = plate(0.5e-3, 0.05, 0.02);
-  s.effects.fracture = true;
-  s.cracks = {{{{0, 0.01, 0}, {0.025, 0.01, 0}}}};
-  for (const double y : {0.0, 0.019}) {
-    BoundaryCondition t;
-    t.kind = BoundaryCondition::Kind::Traction;
-    t.region = Box{{0, y, 0}, {0.05, y + 0.001, 0}};
-    t.traction = {0, y > 0 ? 12e6 : -12e6, 0};
-    t.normal_axis = 1;
-    s.boundary_conditions.push_back(t);
-  }
-  s.no_fail = {Box{{0, 0, 0}, {0.05, 0.002, 0}}, Box{{0, 0.018, 0}, {0.05, 0.02, 0}}};
+  const auto s = test::pulled_cracked_plate(0.5e-3);
   Simulation sim(s);
   for (int k = 0; k < 400 && sim.broken_bonds() < 300; ++k) sim.run_steps(10);
   ASSERT_GE(sim.broken_bonds(), 300);

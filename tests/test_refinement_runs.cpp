@@ -17,18 +17,7 @@ using test::plate;
 TEST(Refinement, MomentumStaysAtRoundOffThroughAnAdaptiveRun) {
   // The pre-cracked plate under equal and opposite tractions (zero net external force): dozens of
   // events while the crack runs must keep the momentum at round-off of Σ m |v|.
-  auto s = plate(1e-3, 0.05, 0.02);
-  s.effects.fracture = true;
-  s.cracks = {{{{0, 0.01, 0}, {0.025, 0.01, 0}}}};
-  for (const double y : {0.0, 0.019}) {
-    BoundaryCondition t;
-    t.kind = BoundaryCondition::Kind::Traction;
-    t.region = Box{{0, y, 0}, {0.05, y + 0.001, 0}};
-    t.traction = {0, y > 0 ? 12e6 : -12e6, 0};
-    t.normal_axis = 1;
-    s.boundary_conditions.push_back(t);
-  }
-  s.no_fail = {Box{{0, 0, 0}, {0.05, 0.002, 0}}, Box{{0, 0.018, 0}, {0.05, 0.02, 0}}};
+  const auto s = test::pulled_cracked_plate(1e-3);
   Simulation sim(s);
   refine::Settings set;
   set.trigger.damage = 0.02;

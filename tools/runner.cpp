@@ -136,11 +136,9 @@ io::HistoryRow history_row(const Simulation& sim, const Energies& e) {
 struct RunContext {
   const scene::Scene& scene;
   Simulation& sim;
-  fs::path dir;
   io::FrameSeries frames;
   io::HistoryWriter history;
   std::vector<std::string> fields;
-  std::int64_t total_steps;
 
   void write_frame() {
     auto t = sim.timers().scope(Phase::Output);
@@ -263,13 +261,8 @@ void run_scene(const scene::Scene& s, const RunOptions& opt) {
     hook->csv = std::make_unique<io::RefinementWriter>((dir / "refinement.csv").string());
     for (const auto& ev : hook->pending) hook->log(*sim, ev);
   }
-  RunContext ctx{s,
-                 *sim,
-                 dir,
-                 io::FrameSeries(dir.string(), s.name),
-                 io::HistoryWriter((dir / "history.csv").string()),
-                 output_field_names(s),
-                 steps};
+  RunContext ctx{s, *sim, io::FrameSeries(dir.string(), s.name),
+                 io::HistoryWriter((dir / "history.csv").string()), output_field_names(s)};
   Schedule schedule(s, steps, s.refinement && s.time.end);
   io::Progress progress(steps, opt.progress && io::Progress::wanted());
   auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
