@@ -29,24 +29,6 @@ void set_particle_radii(ParticleStore& p, const Section& section) {
 
 namespace {
 
-/// The rule and how far past δ_i a neighbour can still overlap the horizon (r_max for exact).
-struct Rule {
-  PartialVolume pv;
-  double reach;
-};
-
-Rule make_rule(const ParticleStore& p, PartialVolume pv) {
-  if (pv != PartialVolume::Exact) return {pv, 0.0};
-  double r_max = 0.0;
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    if (!(p.radius[i] > 0.0))
-      throw EngineError(
-          "partial_volume exact needs every particle radius > 0 (set_particle_radii)");
-    r_max = std::max(r_max, p.radius[i]);
-  }
-  return {pv, r_max};
-}
-
 bool crosses_any(const std::vector<geometry::Crack>& cracks, const geometry::Vec3& a,
                  const geometry::Vec3& b, int dim) {
   for (const auto& c : cracks)
@@ -58,70 +40,99 @@ geometry::Vec3 point(const VectorArray& x, std::size_t i) {
   return {x[0][i], x[1][i], x[2][i]};
 }
 
-/// Candidates of owner i that become bonds, with their lengths and weights.
-void bonds_of(std::size_t i, const ParticleStore& p, const Rule& rule,
-              const std::vector<geometry::Crack>& cracks, const NeighborSearch& search,
-              std::vector<std::int32_t>& cand, std::vector<double>* len, std::vector<double>* w) {
-  const auto& X = p.reference_position;
-  const double delta = p.horizon[i];
-  search.within(i, (delta + rule.reach) * (1.0 + 1e-9), cand);
+}  // namespace
+
+BondRowBuilder::BondRowBuilder(const ParticleStore& p, PartialVolume rule,
+                               const std::vector<geometry::Crack>& cracks, double reach)
+    : p_(p), pv_(rule), reach_(reach), cracks_(cracks) {}
+
+double BondRowBuilder::exact_reach(const ParticleStore& p, PartialVolume rule) {
+  if (rule != PartialVolume::Exact) return 0.0;
+  double r_max = 0.0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (!(p.radius[i] > 0.0))
+      throw EngineError(
+          "partial_volume exact needs every particle radius > 0 (set_particle_radii)");
+    r_max = std::max(r_max, p.radius[i]);
+  }
+  return r_max;
+}
+
+double BondRowBuilder::search_radius(std::size_t i) const {
+  return (p_.horizon[i] + reach_) * (1.0 + 1e-9);
+}
+
+void BondRowBuilder::keep_bonds(std::size_t i, std::vector<std::int32_t>& cand,
+                                std::vector<double>* len, std::vector<double>* w) const {
+  const auto& X = p_.reference_position;
+  const double delta = p_.horizon[i];
   std::size_t kept = 0;
   const auto xi = point(X, i);
   for (const auto j : cand) {
     double d2 = 0.0;
-    for (int a = 0; a < p.dim(); ++a) {
+    for (int a = 0; a < p_.dim(); ++a) {
       const double d = X[a][j] - X[a][i];
       d2 += d * d;
     }
     const double dist = std::sqrt(d2);
-    const double r_j = rule.pv == PartialVolume::Exact ? p.radius[j] : 0.5 * p.spacing[j];
-    const double beta = partial_volume_factor(rule.pv, p.dim(), dist, delta, r_j);
+    const double r_j = pv_ == PartialVolume::Exact ? p_.radius[j] : 0.5 * p_.spacing[j];
+    const double beta = partial_volume_factor(pv_, p_.dim(), dist, delta, r_j);
     if (beta <= 0.0 || dist == 0.0) continue;
-    if (!cracks.empty() && crosses_any(cracks, xi, point(X, j), p.dim())) continue;
+    if (!cracks_.empty() && crosses_any(cracks_, xi, point(X, j), p_.dim())) continue;
     cand[kept++] = j;
     if (len) len->push_back(dist), w->push_back(beta);
   }
   cand.resize(kept);
 }
 
-}  // namespace
+void BondList::fit_arena() {
+  const auto n = static_cast<std::size_t>(rows.arena);
+  owner.resize(n, -1);
+  neighbor.resize(n, -1);
+  length.resize(n, 0.0);
+  weight.resize(n, 0.0);
+  intact.resize(n, 0);
+}
 
 BondList build_bonds(const ParticleStore& p, PartialVolume pv,
                      const std::vector<geometry::Crack>& cracks) {
   const std::size_t n = p.size();
-  const Rule rule = make_rule(p, pv);
+  const BondRowBuilder rows(p, pv, cracks, BondRowBuilder::exact_reach(p, pv));
   NeighborSearch search(p.reference_position, p.dim());
-  BondList b;
-  b.offset.assign(n + 1, 0);
+  std::vector<std::int32_t> counts(n, 0);
   // Pass 1: count each row (parallel, independent rows).
 #pragma omp parallel if (static_cast <std::int64_t>(n) >= kParallelMinParticles)
   {
     std::vector<std::int32_t> cand;
 #pragma omp for schedule(dynamic, 256)
     for (std::int64_t i = 0; i < static_cast<std::int64_t>(n); ++i) {
-      bonds_of(static_cast<std::size_t>(i), p, rule, cracks, search, cand, nullptr, nullptr);
-      b.offset[i + 1] = static_cast<std::int64_t>(cand.size());
+      const auto u = static_cast<std::size_t>(i);
+      search.within(u, rows.search_radius(u), cand);
+      rows.keep_bonds(u, cand, nullptr, nullptr);
+      counts[u] = static_cast<std::int32_t>(cand.size());
     }
   }
-  std::partial_sum(b.offset.begin(), b.offset.end(), b.offset.begin());
-  const auto nb = static_cast<std::size_t>(b.offset[n]);
-  if (nb > static_cast<std::size_t>(INT32_MAX))
+  std::int64_t total = 0;
+  for (const auto c : counts) total += c;
+  if (total > static_cast<std::int64_t>(INT32_MAX))
     throw EngineError("more than 2^31 bonds: not supported by 32-bit bond ids");
-  b.owner.resize(nb);
-  b.neighbor.resize(nb);
-  b.length.resize(nb);
-  b.weight.resize(nb);
-  b.intact.assign(nb, 1);
-  // Pass 2: fill each row at its offset (same candidates, same order: deterministic).
+  BondList b;
+  b.rows = RowIndex::packed(counts);
+  b.fit_arena();
+  std::fill(b.intact.begin(), b.intact.end(), 1);
+  b.live = total;
+  // Pass 2: fill each row at its start (same candidates, same order: deterministic).
 #pragma omp parallel if (static_cast <std::int64_t>(n) >= kParallelMinParticles)
   {
     std::vector<std::int32_t> cand;
     std::vector<double> len, w;
 #pragma omp for schedule(dynamic, 256)
     for (std::int64_t i = 0; i < static_cast<std::int64_t>(n); ++i) {
+      const auto u = static_cast<std::size_t>(i);
       len.clear(), w.clear();
-      bonds_of(static_cast<std::size_t>(i), p, rule, cracks, search, cand, &len, &w);
-      const auto o = static_cast<std::size_t>(b.offset[i]);
+      search.within(u, rows.search_radius(u), cand);
+      rows.keep_bonds(u, cand, &len, &w);
+      const auto o = static_cast<std::size_t>(b.begin(u));
       for (std::size_t k = 0; k < cand.size(); ++k) {
         b.owner[o + k] = static_cast<std::int32_t>(i);
         b.neighbor[o + k] = cand[k];
@@ -135,16 +146,42 @@ BondList build_bonds(const ParticleStore& p, PartialVolume pv,
 
 DualList build_dual(const BondList& bonds) {
   const std::size_t n = bonds.particles();
+  std::vector<std::int32_t> counts(n, 0);
+  for (std::size_t i = 0; i < n; ++i)
+    for (auto b = bonds.begin(i); b < bonds.end(i); ++b)
+      ++counts[static_cast<std::size_t>(bonds.neighbor[b])];
   DualList d;
-  d.offset.assign(n + 1, 0);
-  for (const auto j : bonds.neighbor) ++d.offset[static_cast<std::size_t>(j) + 1];
-  std::partial_sum(d.offset.begin(), d.offset.end(), d.offset.begin());
-  d.bond.resize(bonds.size());
-  std::vector<std::int64_t> fill(d.offset.begin(), d.offset.end() - 1);
-  for (std::size_t b = 0; b < bonds.size(); ++b)
-    d.bond[static_cast<std::size_t>(fill[static_cast<std::size_t>(bonds.neighbor[b])]++)] =
+  d.rows = RowIndex::packed(counts);
+  d.bond.resize(static_cast<std::size_t>(d.rows.arena));
+  std::fill(d.rows.count.begin(), d.rows.count.end(), 0);
+  // Slots in increasing id order: every dual row comes out sorted by bond id.
+  for (std::size_t b = 0; b < bonds.slots(); ++b) {
+    const auto j = bonds.neighbor[b];
+    if (j < 0) continue;
+    auto& c = d.rows.count[static_cast<std::size_t>(j)];
+    d.bond[static_cast<std::size_t>(d.rows.start[static_cast<std::size_t>(j)] + c++)] =
         static_cast<BondId>(b);
+  }
   return d;
+}
+
+void DualList::add(std::size_t j, BondId b) {
+  const auto old_start = rows.start[j];
+  const auto c = rows.count[j];
+  const auto s = rows.make_room(j, c + 1);
+  if (bond.size() < static_cast<std::size_t>(rows.arena))
+    bond.resize(static_cast<std::size_t>(rows.arena), -1);
+  if (s != old_start) std::copy_n(bond.begin() + old_start, c, bond.begin() + s);
+  bond[static_cast<std::size_t>(s + c)] = b;
+  ++rows.count[j];
+}
+
+void DualList::remove(std::size_t j, BondId b) {
+  const auto first = bond.begin() + begin(j), last = bond.begin() + end(j);
+  const auto it = std::find(first, last, b);
+  if (it == last) throw EngineError("dual list: bond not found in the dual row of its neighbour");
+  std::copy(it + 1, last, it);
+  --rows.count[j];
 }
 
 }  // namespace dhpd

@@ -9,29 +9,44 @@
 namespace dhpd {
 namespace {
 
+/// Force density of row i (no allocation, one gather over the row).
 template <int Dim>
-void force_rows(const InteractionList& il, ParticleStore& p) {
-  const auto n = static_cast<std::int64_t>(p.size());
-  const double* y[3] = {p.position[0].data(), p.position[1].data(), p.position[2].data()};
-  double* f[3] = {p.force_density[0].data(), p.force_density[1].data(), p.force_density[2].data()};
-  const std::int64_t* off = il.offset.data();
-  const std::int32_t* other = il.other.data();
-  const double* inv_len = il.inv_length.data();
-  const double* coef = il.coefficient.data();
-#pragma omp parallel for schedule(static) if (n >= kParallelMinParticles)
-  for (std::int64_t i = 0; i < n; ++i) {
-    double yi[Dim], acc[Dim];
-    for (int a = 0; a < Dim; ++a) yi[a] = y[a][i], acc[a] = 0.0;
-    for (std::int64_t k = off[i]; k < off[i + 1]; ++k) {
-      const std::int32_t j = other[k];
-      double dx[Dim], l2 = 0.0;
-      for (int a = 0; a < Dim; ++a) dx[a] = y[a][j] - yi[a], l2 += dx[a] * dx[a];
-      // K β V s n = K β V (|y|/|ξ| − 1) y/|y| = K β V (1/|ξ| − 1/|y|) y
-      const double scale = coef[k] * (inv_len[k] - 1.0 / std::sqrt(l2));
-      for (int a = 0; a < Dim; ++a) acc[a] += scale * dx[a];
-    }
-    for (int a = 0; a < Dim; ++a) f[a][i] = acc[a];
+inline void force_row(std::int64_t i, const double* const y[3], double* const f[3],
+                      const std::int64_t* start, const std::int32_t* count,
+                      const std::int32_t* other, const double* inv_len, const double* coef) {
+  double yi[Dim], acc[Dim];
+  for (int a = 0; a < Dim; ++a) yi[a] = y[a][i], acc[a] = 0.0;
+  const std::int64_t row_end = start[i] + count[i];
+  for (std::int64_t k = start[i]; k < row_end; ++k) {
+    const std::int32_t j = other[k];
+    double dx[Dim], l2 = 0.0;
+    for (int a = 0; a < Dim; ++a) dx[a] = y[a][j] - yi[a], l2 += dx[a] * dx[a];
+    // K β V s n = K β V (|y|/|ξ| − 1) y/|y| = K β V (1/|ξ| − 1/|y|) y
+    const double scale = coef[k] * (inv_len[k] - 1.0 / std::sqrt(l2));
+    for (int a = 0; a < Dim; ++a) acc[a] += scale * dx[a];
   }
+  for (int a = 0; a < Dim; ++a) f[a][i] = acc[a];
+}
+
+/// Every row, or only `subset` when given.
+template <int Dim>
+void force_rows(const InteractionList& il, ParticleStore& p,
+                const std::vector<std::int32_t>* subset) {
+  const double* const y[3] = {p.position[0].data(), p.position[1].data(), p.position[2].data()};
+  double* const f[3] = {p.force_density[0].data(), p.force_density[1].data(),
+                        p.force_density[2].data()};
+  const auto* start = il.rows.start.data();
+  const auto* count = il.rows.count.data();
+  const auto* other = il.other.data();
+  const auto* inv_len = il.inv_length.data();
+  const auto* coef = il.coefficient.data();
+  if (subset) {
+    for (const auto i : *subset) force_row<Dim>(i, y, f, start, count, other, inv_len, coef);
+    return;
+  }
+  const auto n = static_cast<std::int64_t>(p.size());
+#pragma omp parallel for schedule(static) if (n >= kParallelMinParticles)
+  for (std::int64_t i = 0; i < n; ++i) force_row<Dim>(i, y, f, start, count, other, inv_len, coef);
 }
 
 template <int Dim>
@@ -53,7 +68,7 @@ std::int64_t break_rows(BondList& bonds, InteractionList& il, const ParticleStor
   for (std::int64_t i = 0; i < n; ++i) {
     if (p.no_fail[i]) continue;
     const double limit = s0[i];
-    for (auto b = bonds.offset[i]; b < bonds.offset[i + 1]; ++b) {
+    for (auto b = bonds.begin(i); b < bonds.end(i); ++b) {
       if (!bonds.intact[b]) continue;
       if (bond_stretch<Dim>(p, static_cast<std::int32_t>(i), bonds.neighbor[b], bonds.length[b]) <
           limit)
@@ -75,7 +90,7 @@ void energy_rows(const BondList& bonds, const ParticleStore& p, const std::vecto
 #pragma omp parallel for schedule(static) if (n >= kParallelMinParticles)
   for (std::int64_t i = 0; i < n; ++i) {
     double w = 0.0;
-    for (auto b = bonds.offset[i]; b < bonds.offset[i + 1]; ++b) {
+    for (auto b = bonds.begin(i); b < bonds.end(i); ++b) {
       if (!bonds.intact[b]) continue;
       const auto j = bonds.neighbor[b];
       const double s = bond_stretch<Dim>(p, static_cast<std::int32_t>(i), j, bonds.length[b]);
@@ -87,14 +102,15 @@ void energy_rows(const BondList& bonds, const ParticleStore& p, const std::vecto
 
 }  // namespace
 
-void internal_force_density(const InteractionList& il, ParticleStore& p) {
+void internal_force_density(const InteractionList& il, ParticleStore& p,
+                            const std::vector<std::int32_t>* rows) {
   switch (p.dim()) {
     case 1:
-      return force_rows<1>(il, p);
+      return force_rows<1>(il, p, rows);
     case 2:
-      return force_rows<2>(il, p);
+      return force_rows<2>(il, p, rows);
     default:
-      return force_rows<3>(il, p);
+      return force_rows<3>(il, p, rows);
   }
 }
 
@@ -122,18 +138,35 @@ void strain_energy_density(const BondList& bonds, const ParticleStore& p,
   }
 }
 
-void compute_damage(const BondList& bonds, ParticleStore& p) {
+namespace {
+void damage_of(const BondList& bonds, ParticleStore& p, std::size_t i) {
+  double all = 0.0, intact = 0.0;
+  for (auto b = bonds.begin(i); b < bonds.end(i); ++b) {
+    const double w = bonds.weight[b] * p.volume[bonds.neighbor[b]];
+    all += w;
+    intact += bonds.intact[b] * w;
+  }
+  p.damage[i] = all > 0.0 ? 1.0 - intact / all : 0.0;
+}
+
+double stable_step_of(const InteractionList& il, const ParticleStore& p, std::size_t i) {
+  double stiffness = 0.0;
+  for (auto k = il.begin(i); k < il.end(i); ++k)
+    stiffness += std::abs(il.coefficient[k]) * il.inv_length[k];
+  return stiffness > 0.0 ? std::sqrt(2.0 * p.density[i] / stiffness)
+                         : std::numeric_limits<double>::infinity();
+}
+}  // namespace
+
+void compute_damage(const BondList& bonds, ParticleStore& p,
+                    const std::vector<std::int32_t>* rows) {
+  if (rows) {
+    for (const auto i : *rows) damage_of(bonds, p, static_cast<std::size_t>(i));
+    return;
+  }
   const auto n = static_cast<std::int64_t>(p.size());
 #pragma omp parallel for schedule(static) if (n >= kParallelMinParticles)
-  for (std::int64_t i = 0; i < n; ++i) {
-    double all = 0.0, intact = 0.0;
-    for (auto b = bonds.offset[i]; b < bonds.offset[i + 1]; ++b) {
-      const double w = bonds.weight[b] * p.volume[bonds.neighbor[b]];
-      all += w;
-      intact += bonds.intact[b] * w;
-    }
-    p.damage[i] = all > 0.0 ? 1.0 - intact / all : 0.0;
-  }
+  for (std::int64_t i = 0; i < n; ++i) damage_of(bonds, p, static_cast<std::size_t>(i));
 }
 
 void horizon_quadrature(const BondList& bonds, const ParticleStore& p, const Section& section,
@@ -141,22 +174,29 @@ void horizon_quadrature(const BondList& bonds, const ParticleStore& p, const Sec
   out.assign(p.size(), 0.0);
   for (std::size_t i = 0; i < p.size(); ++i) {
     double sum = p.volume[i];
-    for (auto b = bonds.offset[i]; b < bonds.offset[i + 1]; ++b)
+    for (auto b = bonds.begin(i); b < bonds.end(i); ++b)
       sum += bonds.weight[b] * p.volume[bonds.neighbor[b]];
     out[i] = sum / section.horizon_volume(p.horizon[i]);
   }
 }
 
-double critical_time_step(const InteractionList& il, const ParticleStore& p) {
-  double dt = std::numeric_limits<double>::infinity();
-  const auto n = static_cast<std::int64_t>(p.size());
-#pragma omp parallel for schedule(static) reduction(min : dt) if (n >= kParallelMinParticles)
-  for (std::int64_t i = 0; i < n; ++i) {
-    double stiffness = 0.0;
-    for (auto k = il.offset[i]; k < il.offset[i + 1]; ++k)
-      stiffness += std::abs(il.coefficient[k]) * il.inv_length[k];
-    if (stiffness > 0.0) dt = std::min(dt, std::sqrt(2.0 * p.density[i] / stiffness));
+void particle_time_steps(const InteractionList& il, const ParticleStore& p,
+                         std::vector<double>& out, const std::vector<std::int32_t>* rows) {
+  out.resize(p.size(), std::numeric_limits<double>::infinity());
+  if (rows) {
+    for (const auto i : *rows) out[i] = stable_step_of(il, p, static_cast<std::size_t>(i));
+    return;
   }
+  const auto n = static_cast<std::int64_t>(p.size());
+#pragma omp parallel for schedule(static) if (n >= kParallelMinParticles)
+  for (std::int64_t i = 0; i < n; ++i) out[i] = stable_step_of(il, p, static_cast<std::size_t>(i));
+}
+
+double critical_time_step(const InteractionList& il, const ParticleStore& p) {
+  std::vector<double> steps;
+  particle_time_steps(il, p, steps);
+  double dt = std::numeric_limits<double>::infinity();
+  for (const double s : steps) dt = std::min(dt, s);
   return dt;
 }
 

@@ -13,7 +13,9 @@ namespace dhpd {
 
 /// Overwrites `force_density` with the internal force per unit volume of every particle:
 /// f_i = Σ_k K_k β_k V_k s_k n_k, gathered row by row (no atomics, thread-count independent).
-void internal_force_density(const InteractionList& il, ParticleStore& p);
+/// With `rows`, only those particles are updated.
+void internal_force_density(const InteractionList& il, ParticleStore& p,
+                            const std::vector<std::int32_t>* rows = nullptr);
 
 /// Breaks every intact bond with s ≥ s0 of its owner (owners flagged no_fail are skipped).
 /// Zeroes both views of a broken bond. Returns the number of bonds broken by this call.
@@ -21,7 +23,9 @@ std::int64_t break_bonds(BondList& bonds, InteractionList& il, const ParticleSto
                          const std::vector<double>& critical_stretch);
 
 /// φ_i = 1 − Σ μ β V_j / Σ β V_j over own bonds (dhpd.md §7); written to p.damage.
-void compute_damage(const BondList& bonds, ParticleStore& p);
+/// With `rows`, only those particles are updated.
+void compute_damage(const BondList& bonds, ParticleStore& p,
+                    const std::vector<std::int32_t>* rows = nullptr);
 
 /// Strain-energy density of each particle from its own bonds: W_i = Σ_j ½ C_i β s² |ξ| V_j.
 void strain_energy_density(const BondList& bonds, const ParticleStore& p,
@@ -35,6 +39,11 @@ void horizon_quadrature(const BondList& bonds, const ParticleStore& p, const Sec
 
 /// Largest stable step per dhpd.md §5: min_i sqrt(2 ρ_i / Σ_k K_k β_k V_k / |ξ_k|) (no safety).
 double critical_time_step(const InteractionList& il, const ParticleStore& p);
+
+/// The same bound per particle (infinite for a particle without bonds), resized to the store;
+/// with `rows`, only those entries are recomputed.
+void particle_time_steps(const InteractionList& il, const ParticleStore& p,
+                         std::vector<double>& out, const std::vector<std::int32_t>* rows = nullptr);
 
 /// Deterministic sum (fixed order, independent of threads).
 double ordered_sum(const std::vector<double>& values);

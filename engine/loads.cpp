@@ -50,8 +50,34 @@ double layer_depth(const ParticleStore& p, const std::vector<std::int32_t>& laye
 }
 }  // namespace
 
+namespace {
+/// Which components a velocity or fixed condition prescribes, and to what.
+void prescribe(ResolvedLoads& r, const BoundaryCondition& bc, std::int32_t i, int dim) {
+  std::array<std::uint8_t, 3> m{0, 0, 0};
+  Vec3 v{0, 0, 0};
+  for (int a = 0; a < std::min(dim, 3); ++a) {
+    const bool fixed = bc.kind == BoundaryCondition::Kind::Fixed;
+    if (fixed || bc.velocity[a]) m[a] = 1, v[a] = fixed ? 0.0 : *bc.velocity[a];
+  }
+  r.prescribed.push_back(i);
+  r.mask.push_back(m);
+  r.prescribed_velocity.push_back(v);
+}
+
+void add_entry(ResolvedLoads& r, const BoundaryCondition& bc, std::size_t c, std::int32_t i,
+               int dim) {
+  if (bc.kind == BoundaryCondition::Kind::Traction) {
+    r.loaded.push_back(i);
+    r.body_force.push_back(r.condition_body_force[c]);
+  } else {
+    prescribe(r, bc, i, dim);
+  }
+}
+}  // namespace
+
 ResolvedLoads resolve_loads(const std::vector<BoundaryCondition>& bcs, const ParticleStore& p) {
   ResolvedLoads r;
+  r.condition_body_force.assign(bcs.size(), Vec3{0, 0, 0});
   for (std::size_t c = 0; c < bcs.size(); ++c) {
     const auto& bc = bcs[c];
     const auto chosen = select(p, bc.region);
@@ -60,26 +86,41 @@ ResolvedLoads resolve_loads(const std::vector<BoundaryCondition>& bcs, const Par
                        ".region: selects no particle (the region lies outside the body)");
     if (bc.kind == BoundaryCondition::Kind::Traction) {
       const double depth = layer_depth(p, chosen, bc.normal_axis);
-      for (const auto i : chosen) {
-        r.loaded.push_back(i);
-        r.body_force.push_back(
-            {bc.traction[0] / depth, bc.traction[1] / depth, bc.traction[2] / depth});
-      }
-      continue;
+      r.condition_body_force[c] = {bc.traction[0] / depth, bc.traction[1] / depth,
+                                   bc.traction[2] / depth};
     }
-    for (const auto i : chosen) {
-      std::array<std::uint8_t, 3> m{0, 0, 0};
-      Vec3 v{0, 0, 0};
-      for (int a = 0; a < std::min(p.dim(), 3); ++a) {
-        const bool fixed = bc.kind == BoundaryCondition::Kind::Fixed;
-        if (fixed || bc.velocity[a]) m[a] = 1, v[a] = fixed ? 0.0 : *bc.velocity[a];
-      }
-      r.prescribed.push_back(i);
-      r.mask.push_back(m);
-      r.prescribed_velocity.push_back(v);
-    }
+    for (const auto i : chosen) add_entry(r, bc, c, i, p.dim());
   }
   return r;
+}
+
+void update_loads_after_split(ResolvedLoads& r, const std::vector<BoundaryCondition>& bcs,
+                              const ParticleStore& p, const std::vector<std::int32_t>& reused,
+                              const std::vector<std::int32_t>& children) {
+  std::vector<std::int32_t> gone(reused);
+  std::sort(gone.begin(), gone.end());
+  auto is_gone = [&](std::int32_t i) { return std::binary_search(gone.begin(), gone.end(), i); };
+  std::size_t kept = 0;
+  for (std::size_t k = 0; k < r.loaded.size(); ++k)
+    if (!is_gone(r.loaded[k])) r.loaded[kept] = r.loaded[k], r.body_force[kept++] = r.body_force[k];
+  r.loaded.resize(kept), r.body_force.resize(kept);
+  kept = 0;
+  for (std::size_t k = 0; k < r.prescribed.size(); ++k)
+    if (!is_gone(r.prescribed[k])) {
+      r.prescribed[kept] = r.prescribed[k], r.mask[kept] = r.mask[k];
+      r.prescribed_velocity[kept++] = r.prescribed_velocity[k];
+    }
+  r.prescribed.resize(kept), r.mask.resize(kept), r.prescribed_velocity.resize(kept);
+  const auto& X = p.reference_position;
+  for (std::size_t c = 0; c < bcs.size(); ++c)
+    for (const auto i : children)
+      if (bcs[c].region.contains({X[0][i], X[1][i], X[2][i]}, p.dim()))
+        add_entry(r, bcs[c], c, i, p.dim());
+}
+
+void renumber_loads(ResolvedLoads& r, const std::vector<std::int32_t>& new_index) {
+  for (auto& i : r.loaded) i = new_index[static_cast<std::size_t>(i)];
+  for (auto& i : r.prescribed) i = new_index[static_cast<std::size_t>(i)];
 }
 
 }  // namespace dhpd

@@ -39,6 +39,9 @@ struct ResolvedLoads {
   std::vector<Vec3> prescribed_velocity;
   std::vector<std::int32_t> loaded;  ///< particles carrying a body force
   std::vector<Vec3> body_force;      ///< N/m³
+  /// Per condition: the body force of a traction (fixed when resolved: the loaded layer keeps its
+  /// depth when its cells are refined), zero for the others.
+  std::vector<Vec3> condition_body_force;
 };
 
 /// Particles of `p` inside `region` (reference positions).
@@ -48,5 +51,14 @@ void apply_initial_condition(const InitialCondition& ic, ParticleStore& p);
 
 /// Resolves every boundary condition; throws InputError naming the condition that selects nothing.
 ResolvedLoads resolve_loads(const std::vector<BoundaryCondition>& bcs, const ParticleStore& p);
+
+/// After a split: drops the entries of `reused` slots (parents whose slot now holds a child) and
+/// adds every child in `children` that lies in a condition's region, with that condition's load.
+void update_loads_after_split(ResolvedLoads& loads, const std::vector<BoundaryCondition>& bcs,
+                              const ParticleStore& p, const std::vector<std::int32_t>& reused,
+                              const std::vector<std::int32_t>& children);
+
+/// Renumbers every entry: particle i becomes new_index[i].
+void renumber_loads(ResolvedLoads& loads, const std::vector<std::int32_t>& new_index);
 
 }  // namespace dhpd

@@ -19,7 +19,9 @@ Simulation::Simulation(const SimulationSetup& setup) : setup_(setup), p_(setup.s
     dual_ = build_dual(bonds_);
     il_ = build_interactions(setup_.model, bonds_, dual_, p_, C_);
   }
-  critical_dt_ = critical_time_step(il_, p_);
+  particle_time_steps(il_, p_, particle_dt_);
+  critical_dt_ = HUGE_VAL;
+  for (const double s : particle_dt_) critical_dt_ = std::min(critical_dt_, s);
   if (!std::isfinite(critical_dt_))
     throw InputError("no particle has a bond: the horizon factor or spacing is too small");
   dt_ = setup_.fixed_dt.value_or(setup_.safety * critical_dt_);
@@ -29,6 +31,9 @@ Simulation::Simulation(const SimulationSetup& setup) : setup_(setup), p_(setup.s
   last_power_ = boundary_power();
   const auto e = energies();
   initial_energy_ = e.kinetic + e.strain;
+  reach_ = BondRowBuilder::exact_reach(p_, setup_.partial_volume);
+  for (std::size_t i = 0; i < p_.size(); ++i) max_horizon_ = std::max(max_horizon_, p_.horizon[i]);
+  if (setup_.effects.refinement) ensure_grid();
 }
 
 void Simulation::init_particles() {
@@ -67,10 +72,15 @@ void Simulation::init_particles() {
 }
 
 void Simulation::update_bond_constants() {
-  const std::size_t n = p_.size();
-  C_.resize(n);
-  s0_.resize(n);
-  for (std::size_t i = 0; i < n; ++i) {
+  std::vector<std::int32_t> all(p_.size());
+  for (std::size_t i = 0; i < all.size(); ++i) all[i] = static_cast<std::int32_t>(i);
+  update_bond_constants(all);
+}
+
+void Simulation::update_bond_constants(const std::vector<std::int32_t>& slots) {
+  C_.resize(p_.size());
+  s0_.resize(p_.size());
+  for (const auto i : slots) {
     const auto& mat = setup_.materials.at(static_cast<std::size_t>(p_.material[i]));
     C_[i] = dhpd::micromodulus(mat, setup_.section, p_.horizon[i]);
     s0_[i] = mat.G0 > 0 ? dhpd::critical_stretch(mat, setup_.section, p_.horizon[i]) : HUGE_VAL;

@@ -12,6 +12,7 @@
 #include "engine/particles.hpp"
 #include "engine/refinement_event.hpp"
 #include "engine/settings.hpp"
+#include "engine/spatial_grid.hpp"
 #include "engine/timers.hpp"
 #include "geometry/crack.hpp"
 #include "geometry/lattice.hpp"
@@ -20,6 +21,7 @@ namespace dhpd {
 
 struct Effects {
   bool fracture = false;
+  bool refinement = false;  ///< prepare the incremental search structure at start
 };
 
 /// Everything a run needs, already validated and in SI units.
@@ -38,15 +40,30 @@ struct SimulationSetup {
   double safety = 0.8;
   std::optional<double> fixed_dt;
   bool spatial_sort = true;  ///< Morton-order the particles (ids keep the generation order)
+  /// The body's shape, when known: children outside it are not created.
+  std::optional<geometry::Shape> body;
+  /// Refinement appends children after the particles of the scene; once appended particles exceed
+  /// this fraction of all (or garbage exceeds half the bond arena) the store is re-sorted in
+  /// Morton order and every row array compacted. 0 never re-sorts.
+  double resort_fraction = 0.2;
 };
 
 /// What one refinement event did (Simulation::apply_refinement).
 struct RefinementEvent {
   std::int64_t generation = 0;  ///< the generation the event created
   std::size_t parents = 0, children = 0;
-  std::size_t bonds = 0;            ///< bonds of the new generation (all rebuilt for now)
+  std::size_t dropped = 0;          ///< children not created (outside the body, across a crack)
+  std::size_t rows_rebuilt = 0;     ///< owners whose bond rows were rebuilt
+  std::size_t bonds_rebuilt = 0;    ///< bonds written by the event
+  std::size_t rows_touched = 0;     ///< interaction rows rewritten (owners and their neighbours)
+  std::size_t bonds = 0;            ///< bonds after the event
   std::int64_t started_broken = 0;  ///< new bonds set broken by the no-healing rule
-  double seconds = 0.0;
+  double seconds = 0.0;             ///< the event itself (split and incremental rebuild)
+  bool resorted = false;            ///< the store was re-sorted and compacted after the event
+  double resort_seconds = 0.0;      ///< cost of that re-sort (not in `seconds`)
+  /// Per child: its slot and its parent's slot before the event (slots as after the event,
+  /// before any re-sort). The test of incremental = from scratch uses them.
+  std::vector<std::int32_t> child_slot, parent_slot;
 };
 
 struct Energies {
@@ -72,14 +89,19 @@ class Simulation {
   /// Recomputes p.damage (only meaningful with fracture on).
   void update_damage();
 
-  /// Splits the given particles (indices of the current generation) into 2^dim children each
-  /// (split_particles; displacement by `mapping`), drops them, rebuilds bonds, dual lists and
-  /// interaction rows from scratch, applies the no-healing rule, re-resolves loads and no_fail from
-  /// their regions, recomputes the stable step and forces, and bumps generation(). Indices change:
-  /// kept particles keep their order, children follow. Refused for constant-horizon (one δ for the
-  /// whole body).
+  /// Splits the given particles (indices of the current generation) into up to 2^dim children each
+  /// (plan_split; u and v by `mapping`) and rebuilds incrementally: only the children and the
+  /// owners of bonds on the parents or within reach of a child get new bond rows; the dual rows
+  /// and interaction rows of their neighbours are patched; the no-healing rule sets the new bonds;
+  /// loads, no_fail, stable step, forces and damage are updated for the touched particles. A
+  /// parent's first child takes its slot, the other children are appended, so every other index
+  /// stays valid, unless the event ends with a re-sort (RefinementEvent::resorted). Refused for
+  /// constant-horizon (one δ for the whole body).
   RefinementEvent apply_refinement(const std::vector<std::int32_t>& parents,
                                    StateMapping mapping = StateMapping::Copy);
+  /// Re-sorts the store in Morton order and compacts every row array (bonds keep their states).
+  /// Returns the seconds it took.
+  double resort();
   /// Number of refinement events applied so far (0 for the scene's particles).
   std::int64_t generation() const { return generation_; }
 
@@ -106,9 +128,15 @@ class Simulation {
  private:
   void init_particles();
   void update_bond_constants();
-  void assemble_rows();
-  void refresh_after_rebuild();
+  void update_bond_constants(const std::vector<std::int32_t>& slots);
   void compute_forces();
+  // Refinement (simulation_refine.cpp, simulation_rows.cpp).
+  struct EventScratch;
+  void ensure_grid();
+  std::vector<std::int32_t> old_neighbourhood(const SplitPlan& plan) const;
+  std::vector<std::int32_t> owners_to_rebuild(const SplitPlan& plan) const;
+  void rebuild_rows(EventScratch& ev, RefinementEvent& out);
+  void finish_event(EventScratch& ev, RefinementEvent& out);
   void enforce_prescribed_velocity();
   double boundary_power() const;
   bool state_is_finite() const;
@@ -120,6 +148,13 @@ class Simulation {
   InteractionList il_;
   ResolvedLoads loads_;
   std::vector<double> C_, s0_;
+  std::vector<double> particle_dt_;  ///< stable step of each particle's row (dhpd.md §5)
+  std::optional<SpatialGrid> grid_;  ///< incremental search (built at the first event)
+  double reach_ = 0.0;               ///< upper bound on radii (exact) for bond searches
+  double max_horizon_ = 0.0;         ///< upper bound on every horizon
+  std::size_t appended_since_sort_ = 0;
+  std::vector<std::int32_t> parent_slot_, child_of_slot_;  ///< event scratch, −1 outside events
+  std::vector<std::uint8_t> touched_;                      ///< event scratch, 0 outside events
   PhaseTimers timers_;
   double time_ = 0.0, dt_ = 0.0, critical_dt_ = 0.0;
   double external_work_ = 0.0, initial_energy_ = 0.0, last_power_ = 0.0;

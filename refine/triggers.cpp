@@ -19,7 +19,7 @@ std::vector<double> critical_energy_density(const Simulation& sim) {
       continue;
     }
     double w = 0.0;
-    for (auto k = b.offset[i]; k < b.offset[i + 1]; ++k)
+    for (auto k = b.begin(i); k < b.end(i); ++k)
       w += b.length[k] * b.weight[k] * p.volume[static_cast<std::size_t>(b.neighbor[k])];
     out[i] = 0.5 * sim.micromodulus()[i] * s0 * s0 * w;
   }
@@ -31,7 +31,7 @@ std::vector<double> max_bond_stretch(const Simulation& sim) {
   const auto& b = sim.bonds();
   std::vector<double> out(p.size(), 0.0);
   for (std::size_t i = 0; i < p.size(); ++i)
-    for (auto k = b.offset[i]; k < b.offset[i + 1]; ++k) {
+    for (auto k = b.begin(i); k < b.end(i); ++k) {
       if (!b.intact[k]) continue;
       const auto j = static_cast<std::size_t>(b.neighbor[k]);
       double l2 = 0.0;

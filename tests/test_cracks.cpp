@@ -90,7 +90,7 @@ TEST(CrackBonds, BondsAreExactlyThePairsThatCrossNoCrack) {
       }
     std::size_t crossing = 0;
     for (std::size_t i = 0; i < p.size(); ++i)
-      for (auto k = bonds.offset[i]; k < bonds.offset[i + 1]; ++k) {
+      for (auto k = bonds.begin(i); k < bonds.end(i); ++k) {
         const auto j = static_cast<std::size_t>(bonds.neighbor[k]);
         const geometry::Vec3 a{p.reference_position[0][i], p.reference_position[1][i],
                                p.reference_position[2][i]};

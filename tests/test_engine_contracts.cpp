@@ -80,7 +80,7 @@ TEST(MultipleMaterials, EachBondUsesItsOwnersMaterialInBothViews) {
   const auto& rows = sim.interactions();
   std::size_t mixed = 0;
   for (std::size_t i = 0; i < p.size(); ++i)
-    for (auto k = b.offset[i]; k < b.offset[i + 1]; ++k) {
+    for (auto k = b.begin(i); k < b.end(i); ++k) {
       const auto j = static_cast<std::size_t>(b.neighbor[k]);
       const auto& own = sim.setup().materials[static_cast<std::size_t>(p.material[i])];
       const double C = micromodulus(own, sim.setup().section, p.horizon[i]);

@@ -52,7 +52,7 @@ TEST(GatherVersusScatter, SameForcesOnVaryingHorizons) {
     for (auto& r : ref) r.assign(p.size(), 0.0);
     double scale = 0;
     for (std::size_t i = 0; i < p.size(); ++i)
-      for (auto b = a.bonds.offset[i]; b < a.bonds.offset[i + 1]; ++b) {
+      for (auto b = a.bonds.begin(i); b < a.bonds.end(i); ++b) {
         const auto j = static_cast<std::size_t>(a.bonds.neighbor[b]);
         double d[3], l = 0;
         for (int k = 0; k < 3; ++k) d[k] = p.position[k][j] - p.position[k][i], l += d[k] * d[k];

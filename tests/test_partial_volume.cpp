@@ -252,7 +252,7 @@ TEST(ExactPartialVolume, BondsAreExactlyThePairsWithPositiveFraction) {
       }
     EXPECT_EQ(bonds.size(), expected) << dim;
     EXPECT_GT(beyond, 0u) << dim;
-    for (std::size_t b = 0; b < bonds.size(); ++b) {
+    for (std::size_t b = 0; b < bonds.slots(); ++b) {
       const auto i = static_cast<std::size_t>(bonds.owner[b]);
       const auto j = static_cast<std::size_t>(bonds.neighbor[b]);
       ASSERT_EQ(bonds.weight[b],

@@ -217,7 +217,7 @@ TEST(Inclusions, BondsOwnedByInclusionParticlesUseTheInclusionMaterial) {
     const auto& own = sim->setup().materials[static_cast<std::size_t>(p.material[i])];
     const double C = micromodulus(own, sim->setup().section, p.horizon[i]);
     EXPECT_DOUBLE_EQ(sim->micromodulus()[i], C);
-    for (auto k = b.offset[i]; k < b.offset[i + 1]; ++k) {
+    for (auto k = b.begin(i); k < b.end(i); ++k) {
       const auto j = static_cast<std::size_t>(b.neighbor[k]);
       EXPECT_DOUBLE_EQ(rows.coefficient[rows.own_slot[k]], C * b.weight[k] * p.volume[j]);
       EXPECT_DOUBLE_EQ(rows.coefficient[rows.dual_slot[k]], C * b.weight[k] * p.volume[i]);

@@ -27,7 +27,7 @@ std::vector<std::int32_t> intact_own_bonds(const Simulation& sim) {
   const auto& b = sim.bonds();
   std::vector<std::int32_t> count(sim.particles().size(), 0);
   for (std::size_t i = 0; i < count.size(); ++i)
-    for (auto k = b.offset[i]; k < b.offset[i + 1]; ++k) count[i] += b.intact[k];
+    for (auto k = b.begin(i); k < b.end(i); ++k) count[i] += b.intact[k];
   return count;
 }
 
@@ -36,7 +36,7 @@ std::vector<std::int32_t> intact_dual_bonds(const Simulation& sim) {
   const auto& d = sim.dual();
   std::vector<std::int32_t> count(sim.particles().size(), 0);
   for (std::size_t i = 0; i < count.size(); ++i)
-    for (auto k = d.offset[i]; k < d.offset[i + 1]; ++k) count[i] += b.intact[d.bond[k]];
+    for (auto k = d.begin(i); k < d.end(i); ++k) count[i] += b.intact[d.bond[k]];
   return count;
 }
 
