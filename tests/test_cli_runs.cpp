@@ -127,8 +127,9 @@ TEST_F(CliTest, AdaptiveRunLogsEventsAndFramesCarryLevels) {
   const auto end = summary.at("particles_end").get<long long>();
   EXPECT_GT(end, kPlateParticles);
   const auto csv = read_text(dir / "refinement.csv");
-  EXPECT_EQ(csv.rfind("generation,step,time,parents,children,particles,bonds,started_broken,dt,"
-                      "seconds\n",
+  EXPECT_EQ(csv.rfind("generation,step,time,parents,children,dropped,particles,bonds,rows_rebuilt,"
+                      "bonds_rebuilt,rows_touched,started_broken,dt,seconds,resorted,"
+                      "resort_seconds\n",
                       0),
             0u)
       << csv;

@@ -62,6 +62,8 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 100));
   bench->add_option("--threads", bench_opt.threads, "thread counts to compare")
       ->check(CLI::Range(1, 1024));
+  bench->add_flag("--refinement", bench_opt.refinement,
+                  "time refinement events on the same refined set in bodies of N, 4N, 16N");
 
   try {
     app.parse(argc, argv);
@@ -75,7 +77,10 @@ int main(int argc, char** argv) {
 
   try {
     if (*bench) {
-      dhpd::run_bench(bench_opt, std::cout);
+      if (bench_opt.refinement)
+        dhpd::run_refinement_bench(bench_opt, std::cout);
+      else
+        dhpd::run_bench(bench_opt, std::cout);
       return 0;
     }
     const auto scene = dhpd::scene::load_scene(scene_file, parse_overrides(sets));

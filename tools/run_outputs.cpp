@@ -61,15 +61,17 @@ void HistoryWriter::write(const HistoryRow& row) {
 }
 
 RefinementWriter::RefinementWriter(const std::string& path) : out_(path, std::ios::trunc) {
-  out_ << "generation,step,time,parents,children,particles,bonds,started_broken,dt,seconds\n";
+  out_ << "generation,step,time,parents,children,dropped,particles,bonds,rows_rebuilt,"
+          "bonds_rebuilt,rows_touched,started_broken,dt,seconds,resorted,resort_seconds\n";
   out_.flush();
   if (!out_) throw std::runtime_error(fmt::format("cannot write refinement file '{}'", path));
 }
 
 void RefinementWriter::write(const RefinementRow& r) {
-  out_ << fmt::format("{},{},{:.17g},{},{},{},{},{},{:.17g},{:.6g}\n", r.generation, r.step, r.time,
-                      r.parents, r.children, r.particles, r.bonds, r.started_broken, r.dt,
-                      r.seconds);
+  out_ << fmt::format("{},{},{:.17g},{},{},{},{},{},{},{},{},{},{:.17g},{:.6g},{},{:.6g}\n",
+                      r.generation, r.step, r.time, r.parents, r.children, r.dropped, r.particles,
+                      r.bonds, r.rows_rebuilt, r.bonds_rebuilt, r.rows_touched, r.started_broken,
+                      r.dt, r.seconds, r.resorted, r.resort_seconds);
   out_.flush();
   if (!out_) throw std::runtime_error("cannot write refinement row");
 }

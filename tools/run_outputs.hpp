@@ -29,8 +29,11 @@ class HistoryWriter {
 struct RefinementRow {
   std::int64_t generation = 0, step = 0;
   double time = 0;
-  std::int64_t parents = 0, children = 0, particles = 0, bonds = 0, started_broken = 0;
+  std::int64_t parents = 0, children = 0, dropped = 0, particles = 0, bonds = 0;
+  std::int64_t rows_rebuilt = 0, bonds_rebuilt = 0, rows_touched = 0, started_broken = 0;
   double dt = 0, seconds = 0;
+  int resorted = 0;
+  double resort_seconds = 0;
 };
 
 /// refinement.csv with a fixed header, flushed per row.

@@ -102,19 +102,26 @@ struct RefinementHook {
     r.time = sim.time();
     r.parents = static_cast<std::int64_t>(ev.parents);
     r.children = static_cast<std::int64_t>(ev.children);
+    r.dropped = static_cast<std::int64_t>(ev.dropped);
     r.particles = static_cast<std::int64_t>(sim.particles().size());
     r.bonds = static_cast<std::int64_t>(ev.bonds);
+    r.rows_rebuilt = static_cast<std::int64_t>(ev.rows_rebuilt);
+    r.bonds_rebuilt = static_cast<std::int64_t>(ev.bonds_rebuilt);
+    r.rows_touched = static_cast<std::int64_t>(ev.rows_touched);
     r.started_broken = ev.started_broken;
     r.dt = sim.dt();
     r.seconds = ev.seconds;
+    r.resorted = ev.resorted ? 1 : 0;
+    r.resort_seconds = ev.resort_seconds;
     csv->write(r);
     ++events;
     if (echo)
       fmt::print(
           "dhpd: refinement {} at step {} (t = {:.4g} s): {} parents -> {} children; {} "
-          "particles, {} bonds rebuilt ({} start broken); dt = {:.4g} s; {:.3f} s\n",
-          r.generation, r.step, r.time, r.parents, r.children, r.particles, r.bonds,
-          r.started_broken, r.dt, r.seconds);
+          "particles; {} rows, {} bonds rebuilt ({} start broken); dt = {:.4g} s; {:.4f} s{}\n",
+          r.generation, r.step, r.time, r.parents, r.children, r.particles, r.rows_rebuilt,
+          r.bonds_rebuilt, r.started_broken, r.dt, r.seconds,
+          ev.resorted ? fmt::format(" (+ re-sort {:.4f} s)", ev.resort_seconds) : "");
   }
 };
 

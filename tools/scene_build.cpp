@@ -122,6 +122,14 @@ SimulationSetup build_setup(const Scene& s) {
     setup.boundary_conditions.push_back(bc.bc);
   }
   setup.effects = s.effects;
+  setup.effects.refinement = s.refinement.has_value();
+  // The body is the union of its lattice parts' shapes: children outside it are not created.
+  // (Refinement refuses meshed and points-file parts, so lattice parts are all that matter.)
+  std::vector<geometry::Shape> shapes;
+  for (const auto& part : s.body)
+    if (part.kind == PartKind::Lattice) shapes.push_back(part.shape);
+  if (!shapes.empty())
+    setup.body = shapes.size() == 1 ? shapes.front() : geometry::Shape::union_of(shapes);
   setup.safety = s.time.safety;
   setup.fixed_dt = s.time.dt;
   return setup;
