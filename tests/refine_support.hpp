@@ -38,6 +38,22 @@ inline SimulationSetup pulled_cracked_plate(double dx) {
   return s;
 }
 
+/// An 8 × 8 × 4 mm glass block (Δx = 1 mm, linear β, fracture on) whose upper half is lifted by
+/// 2 % of a spacing: the first step breaks every bond across y = 4 mm.
+inline SimulationSetup lifted_block_3d() {
+  SimulationSetup s;
+  s.section = {3, PlaneMode::Stress, 1.0, 1.0};
+  s.materials = {{72e9, 2440, 135.0}};
+  s.partial_volume = PartialVolume::Linear;
+  s.effects.fracture = true;
+  s.points = geometry::fill_lattice({{Box{{0, 0, 0}, {0.008, 0.008, 0.004}}, 1e-3, 0}}, 3);
+  InitialCondition lift;
+  lift.region = Box{{0, 0.004, 0}, {0.008, 0.008, 0.004}};
+  lift.displacement = geometry::Vec3{0, 2e-5, 0};
+  s.initial_conditions = {lift};
+  return s;
+}
+
 /// Every particle index of the current generation.
 inline std::vector<std::int32_t> all_particles(const Simulation& sim) {
   std::vector<std::int32_t> all(sim.particles().size());

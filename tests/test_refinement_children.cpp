@@ -166,16 +166,7 @@ TEST(RefinementChildren, DamageChangesThroughAnEventOnlyAsDocumented) {
 }
 
 TEST(RefinementChildren, ThreeDimensionalCrackStaysOpenAroundRefinedParticles) {
-  SimulationSetup s;
-  s.section = {3, PlaneMode::Stress, 1.0, 1.0};
-  s.materials = {{72e9, 2440, 135.0}};
-  s.partial_volume = PartialVolume::Linear;
-  s.effects.fracture = true;
-  s.points = geometry::fill_lattice({{Box{{0, 0, 0}, {0.008, 0.008, 0.004}}, 1e-3, 0}}, 3);
-  InitialCondition lift;  // the first step breaks every bond across y = 4 mm
-  lift.region = Box{{0, 0.004, 0}, {0.008, 0.008, 0.004}};
-  lift.displacement = geometry::Vec3{0, 2e-5, 0};
-  s.initial_conditions = {lift};
+  const auto s = test::lifted_block_3d();
   Simulation sim(s);
   sim.step();
   auto intact_across = [&] {

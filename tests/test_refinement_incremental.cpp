@@ -138,18 +138,8 @@ TEST(RefinementIncremental, RandomEventsEqualFromScratchInEveryPartialVolumeMode
 }
 
 TEST(RefinementIncremental, ThreeDimensionalEventsEqualFromScratch) {
-  SimulationSetup s;
-  s.section = {3, PlaneMode::Stress, 1.0, 1.0};
-  s.materials = {{72e9, 2440, 135.0}};
-  s.partial_volume = PartialVolume::Linear;
-  s.effects.fracture = true;
+  auto s = test::lifted_block_3d();
   s.resort_fraction = 0.0;
-  s.points = geometry::fill_lattice({{test::Box{{0, 0, 0}, {0.008, 0.008, 0.004}}, 1e-3, 0}}, 3);
-  // The upper half lifted by 2 % of a spacing: the first step breaks the bonds across y = 4 mm.
-  InitialCondition lift;
-  lift.region = test::Box{{0, 0.004, 0}, {0.008, 0.008, 0.004}};
-  lift.displacement = geometry::Vec3{0, 2e-5, 0};
-  s.initial_conditions = {lift};
   Simulation sim(s);
   sim.step();
   ASSERT_GT(sim.broken_bonds(), 0);
