@@ -3,6 +3,7 @@
 #include <omp.h>
 
 #include "engine/parallel.hpp"
+#include "refine/refiner.hpp"
 #include "tests/support.hpp"
 
 namespace dhpd {
@@ -36,11 +37,25 @@ struct Result {
   Energies e;
 };
 
-Result run_with(int threads) {
+/// 200 steps; or 100 with `adaptive`, a damage-triggered refiner checks every 10 steps (the event
+/// itself is serial, so only the step loops see the thread count).
+Result run_with(int threads, bool adaptive = false) {
   omp_set_num_threads(threads);
   Simulation sim(fracturing_plate());
   EXPECT_GE(static_cast<std::int64_t>(sim.particles().size()), kParallelMinParticles);
-  sim.run_steps(200);
+  refine::Settings set;
+  set.trigger.damage = 0.3;
+  set.max_level = 1;
+  const refine::Refiner refiner(set);
+  std::int64_t events = 0;
+  const std::int64_t steps = adaptive ? 100 : 200;
+  for (std::int64_t k = 1; k <= steps; ++k) {
+    sim.step();
+    if (adaptive && refiner.due(k)) events += refiner.check(sim).parents > 0 ? 1 : 0;
+  }
+  if (adaptive) {
+    EXPECT_GT(events, 2);
+  }
   Result r;
   const auto& p = sim.particles();
   for (int a = 0; a < 2; ++a) {
@@ -64,6 +79,17 @@ TEST(Determinism, OneAndTwoThreadsGiveIdenticalNumbers) {
   EXPECT_EQ(one.e.kinetic, two.e.kinetic);
   EXPECT_EQ(one.e.strain, two.e.strain);
   EXPECT_EQ(one.e.external_work, two.e.external_work);
+}
+
+TEST(Determinism, AdaptiveRunIsIdenticalWithOneAndTwoThreads) {
+  const auto one = run_with(1, true), two = run_with(2, true);
+  omp_set_num_threads(omp_get_num_procs());
+  std::printf("adaptive: %zu particles, %lld broken bonds after 100 steps\n", one.u.size() / 2,
+              static_cast<long long>(one.broken));
+  EXPECT_EQ(one.broken, two.broken);
+  EXPECT_EQ(one.u, two.u);
+  EXPECT_EQ(one.v, two.v);
+  EXPECT_EQ(one.e.strain, two.e.strain);
 }
 
 }  // namespace
