@@ -6,8 +6,12 @@
 #include <cmath>
 #include <numbers>
 
+#include "engine/errors.hpp"
+#include "tests/scene_samples.hpp"
 #include "tests/support.hpp"
 #include "tools/crack_measure.hpp"
+#include "tools/scene.hpp"
+#include "tools/scene_build.hpp"
 
 namespace dhpd::measure {
 namespace {
@@ -249,6 +253,68 @@ TEST(CrackMeasure, AngleAndRayleighSpeed) {
             rayleigh_speed(materials[0], s));
   EXPECT_EQ(rayleigh_speed_near(p, materials, s, {0.016, 0.005, 0}),
             rayleigh_speed(materials[1], s));
+}
+
+// ---- the `measure` block of a scene ----
+
+const std::string kMeasured = std::string(scene::samples::kMinimal) + R"(effects: {fracture: true}
+measure:
+  damage_threshold: 0.5
+  every: 4
+  smoothing: 2
+  branch_separation: 3
+  tips:
+    - {name: upper, at: [0.5, 0.7], direction: [1, 1]}
+    - {name: lower, at: [0.5, 0.3], direction: [1, -1]}
+  published: {upper: {angle_deg: 65.7, branch_times: [2.45e-5, 3e-5]}, particles_end: 54860}
+)";
+
+TEST(MeasureScene, ReadsAndResolvesTheBlock) {
+  const auto check = [](const scene::Scene& s) {
+    ASSERT_TRUE(s.measure.has_value());
+    const auto& m = s.measure->settings;
+    EXPECT_EQ(m.damage_threshold, 0.5);
+    EXPECT_EQ(m.every, 4);
+    EXPECT_EQ(m.smoothing, 2);
+    EXPECT_EQ(m.branch_separation, 3.0);
+    ASSERT_EQ(m.tips.size(), 2u);
+    EXPECT_EQ(m.tips[1].name, "lower");
+    EXPECT_EQ(m.tips[1].at, (Vec3{0.5, 0.3, 0}));
+    EXPECT_EQ(m.tips[1].direction, (Vec3{1, -1, 0}));
+    const auto& pub = *s.measure->published;
+    ASSERT_EQ(pub.keys, (std::vector<std::string>{"upper", "particles_end"}));
+    EXPECT_EQ(pub.values[0].values[0].number, 65.7);
+    EXPECT_EQ(pub.values[0].values[1].list, (std::vector<double>{2.45e-5, 3e-5}));
+    EXPECT_TRUE(pub.values[1].integer);
+    EXPECT_EQ(pub.values[1].number, 54860);
+  };
+  const auto s = scene::parse_scene(kMeasured, "m.yaml");
+  check(s);
+  check(scene::parse_scene(scene::resolved_yaml(s), "resolved.yaml"));
+  const auto defaults =
+      scene::parse_scene(kMeasured.substr(0, kMeasured.find("measure:")) +
+                             "measure: {tips: [{name: a, at: [0.5, 0.5], direction: [1, 0]}]}\n",
+                         "d.yaml");
+  EXPECT_EQ(defaults.measure->settings.damage_threshold, 0.35);
+  EXPECT_EQ(defaults.measure->settings.every, 10);
+  EXPECT_EQ(defaults.measure->settings.smoothing, 1);
+  EXPECT_EQ(defaults.measure->settings.branch_separation, 2.0);
+  EXPECT_FALSE(defaults.measure->published.has_value());
+}
+
+TEST(MeasureScene, TipOutsideTheBodyIsRefusedBeforeTheRun) {
+  const auto s = scene::parse_scene(kMeasured, "m.yaml", {{"measure.tips.1.at", "[0.5, 1.2]"}});
+  try {
+    scene::build_simulation(s);
+    FAIL() << "accepted a notch tip outside the body";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("--set measure.tips.1.at: the notch tip [0.5, 1.2] lies "
+                                         "outside the body's bounding box (allowed: [0, 0] to "
+                                         "[1, 1])"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_NO_THROW(scene::build_simulation(scene::parse_scene(kMeasured, "m.yaml")));
 }
 
 }  // namespace
