@@ -144,7 +144,7 @@ struct CrackHook {
     for (const auto& t : s.tips) names.push_back(t.name);
     return names;
   }
-  void measure(Simulation& sim) {
+  void take_measurement(Simulation& sim) {
     sim.update_damage();
     auto t = sim.timers().scope(Phase::Diagnostics);
     for (const auto& row : tracker.measure(sim.particles(), sim.steps_done(), sim.time()))
@@ -178,7 +178,7 @@ struct RunContext {
 
   /// Measures the cracks at measurement steps and at the last step.
   void measure(bool last) {
-    if (cracks && (last || cracks->tracker.due(sim.steps_done()))) cracks->measure(sim);
+    if (cracks && (last || cracks->tracker.due(sim.steps_done()))) cracks->take_measurement(sim);
   }
   void write_frame() {
     auto t = sim.timers().scope(Phase::Output);
@@ -248,18 +248,10 @@ void log_start(const scene::Scene& s, const Simulation& sim, std::int64_t steps,
              omp_get_max_threads(), dir.string());
 }
 
-void log_end(const io::Summary& sum) {
-  fmt::print(
-      "dhpd: {} in {:.3f} s: {} steps, {} broken bonds, {:.3g} bond updates/s, {:.3g} "
-      "particle-steps/s\n",
-      sum.status, sum.wall_seconds, sum.steps, sum.broken_bonds, sum.bond_updates_per_second,
-      sum.particle_steps_per_second);
-  std::string phases;
-  for (const auto& p : sum.phases) phases += fmt::format(" {} {:.3f} s;", p.name, p.seconds);
-  fmt::print("dhpd: time per phase:{}\n", phases);
-  if (!sum.cracks) return;
-  const double c_r = sum.cracks->rayleigh_speed;
-  for (const auto& c : sum.cracks->cracks) {
+/// One line per measured tip: initiation, angle, speeds against c_R, branchings.
+void log_cracks(const io::CrackReport& report) {
+  const double c_r = report.rayleigh_speed;
+  for (const auto& c : report.cracks) {
     auto text = [](const std::optional<double>& v, const char* format) {
       return v ? fmt::format(fmt::runtime(format), *v) : std::string("none");
     };
@@ -274,7 +266,20 @@ void log_end(const io::Summary& sum) {
   }
 }
 
-/// Steps until the schedule says the run is over; refinement checks after each due step.
+void log_end(const io::Summary& sum) {
+  fmt::print(
+      "dhpd: {} in {:.3f} s: {} steps, {} broken bonds, {:.3g} bond updates/s, {:.3g} "
+      "particle-steps/s\n",
+      sum.status, sum.wall_seconds, sum.steps, sum.broken_bonds, sum.bond_updates_per_second,
+      sum.particle_steps_per_second);
+  std::string phases;
+  for (const auto& p : sum.phases) phases += fmt::format(" {} {:.3f} s;", p.name, p.seconds);
+  fmt::print("dhpd: time per phase:{}\n", phases);
+  if (sum.cracks) log_cracks(*sum.cracks);
+}
+
+/// Steps until the schedule says the run is over; refinement checks after each due step, crack
+/// measurements at step 0, every `measure.every` steps and at the last step.
 void time_loop(RunContext& ctx, RefinementHook* hook, Schedule& schedule, io::Progress& progress,
                const std::function<double()>& elapsed) {
   auto& sim = ctx.sim;
