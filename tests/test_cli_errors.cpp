@@ -55,6 +55,15 @@ std::vector<BadScene> bad_scenes() {
            "bad.yaml:17: time.safety: safety must lie in (0, 1], got 1.5"),
       edit("EndAndSteps", 17, "time: {steps: 60, end: 1.0e-6}",
            "bad.yaml:17: time: give either end or steps, not both"),
+      edit("MeasureWithoutFracture", 16,
+           "effects: {fracture: false}\nmeasure: {tips: [{name: a, at: [0.004, 0.0025], "
+           "direction: [1, 0]}]}",
+           "bad.yaml:17: measure: measure follows cracks through the damage field, which needs "
+           "effects.fracture: true"),
+      set("SetMeasureTipOutsideBody",
+          "measure={tips: [{name: a, at: [0.02, 0.0025], direction: [1, 0]}]}",
+          "--set measure.tips.0.at: the notch tip [0.02, 0.0025] lies outside the body's "
+          "bounding box (allowed: [0, 0] to [0.01, 0.005])"),
       set("SetSpacingTooLarge", "body.0.spacing=0.05",
           "--set body.0.spacing: spacing 0.05 is larger than the part's smallest extent 0.005"),
       set("SetPathOutOfRange", "body.3.spacing=1e-3",

@@ -200,6 +200,60 @@ TEST_F(CliTest, OverflowingRunStopsWithExitThree) {
   EXPECT_TRUE(fs::exists(dir / "scene.resolved.yaml"));
 }
 
+// ---- crack measurements ----
+
+TEST_F(CliTest, MeasuredRunWritesCracksAndRayleighSpeed) {
+  // The shipped plate at 1 mm spacing (4,000 particles): the crack starts and branches.
+  const auto o = dhpd(
+      {"run", std::string(DHPD_SOURCE_DIR) + "/cases/cracked-plate.yaml", "-o", "measured", "-q"},
+      {"body.0.spacing=0.001"});
+  ASSERT_EQ(o.code, 0) << o.err;
+  const auto dir = dir_ / "measured";
+  const auto summary = read_json(dir / "summary.json");
+  const auto csv = read_history(dir / "cracks.csv");  // the same layout as history.csv
+  EXPECT_EQ(csv.header, "step,time,tip,x,y,z,distance,path_length,speed,angle_deg,branches");
+  const long long steps = summary.at("steps").get<long long>();
+  std::vector<long long> expected;  // every 10 steps from step 0, and the last step
+  for (long long k = 0; k < steps; k += 10) expected.push_back(k);
+  expected.push_back(steps);
+  EXPECT_EQ(csv.column(0), expected);
+  for (const auto& row : csv.rows) {
+    ASSERT_EQ(row.size(), 11u);
+    EXPECT_EQ(row[2], "notch");
+  }
+  EXPECT_GT(std::stod(csv.rows.back()[6]), 0.02);  // the crack has run more than 20 mm
+
+  ASSERT_EQ(summary.at("cracks").size(), 1u);
+  const auto& crack = summary.at("cracks")[0];
+  EXPECT_EQ(crack.at("name"), "notch");
+  ASSERT_TRUE(crack.at("initiation_time").is_number()) << crack;
+  EXPECT_GT(crack.at("initiation_time").get<double>(), 0.0);
+  EXPECT_LT(crack.at("initiation_time").get<double>(), summary.at("end_time").get<double>());
+  EXPECT_TRUE(crack.at("max_speed").is_number());
+  EXPECT_TRUE(crack.at("branch_times").is_array());
+  EXPECT_EQ(crack.at("tip")[0].get<double>(), std::stod(csv.rows.back()[3]));  // the last row
+  const double nu = 1.0 / 3.0, mu = 72.0e9 / (2.0 * (1.0 + nu));
+  const double c_r = (0.87 + 1.12 * nu) / (1.0 + nu) * std::sqrt(mu / 2440.0);
+  EXPECT_NEAR(summary.at("rayleigh_speed").get<double>(), c_r, 1e-12 * c_r);
+  EXPECT_EQ(summary.at("published").at("notch").at("branch_times"), json::parse("[2.45e-5]"));
+
+  const std::string text = read_text(dir / "scene.resolved.yaml");
+  const auto resolved = dhpd::scene::parse_scene(text.substr(0, text.find("\n---\n") + 1), "r");
+  ASSERT_TRUE(resolved.measure.has_value());
+  ASSERT_EQ(resolved.measure->settings.tips.size(), 1u);
+  EXPECT_EQ(resolved.measure->settings.tips[0].at, (dhpd::geometry::Vec3{0.05, 0.02, 0}));
+  EXPECT_EQ(resolved.measure->settings.every, 10);
+}
+
+TEST_F(CliTest, RunWithoutMeasureWritesNoCracks) {
+  const auto dir = run_plate("result", {}, {"time.steps=10"});
+  EXPECT_FALSE(fs::exists(dir / "cracks.csv"));
+  const auto summary = read_json(dir / "summary.json");
+  EXPECT_FALSE(summary.contains("cracks"));
+  EXPECT_FALSE(summary.contains("rayleigh_speed"));
+  EXPECT_EQ(read_text(dir / "scene.resolved.yaml").find("measure"), std::string::npos);
+}
+
 // ---- dhpd check and the shipped cases ----
 
 /// The particle count `dhpd check` prints ("  particles: N"), or -1.

@@ -36,6 +36,11 @@ std::ostream& operator<<(std::ostream& os, const BadScene& c) {
 
 const std::string kBox3 = "{shape: box, min: [0, 0, 0], max: [1, 1, 1], spacing: 0.1, material: g}";
 
+/// Lines 8–11 after kMinimal: fracture on and a measure block whose one tip is `tip`.
+std::string measured(const std::string& tip = "{name: a, at: [0.5, 0.5], direction: [1, 0]}") {
+  return "effects: {fracture: true}\nmeasure:\n  tips:\n    - " + tip + "\n";
+}
+
 const std::vector<BadScene> kBadScenes = {
     {"UnknownKeySuggestion",
      replace_line(6, "  - {shape: box, min: [0, 0], max: [1, 1], spacing: 0.1, materail: glass}"),
@@ -306,6 +311,50 @@ const std::vector<BadScene> kBadScenes = {
     {"RefinementConstantHorizon",
      plus("model: constant-horizon\neffects: {refinement: {trigger: {damage: 0.1}}}"),
      "bad.yaml:9: effects.refinement: refinement needs per-particle horizons"},
+    {"MeasureUnknownKey", plus(measured() + "  smothing: 3"),
+     "bad.yaml:12: measure.smothing: unknown key 'smothing', did you mean 'smoothing'? (allowed: "
+     "damage_threshold, every, smoothing, branch_separation, tips, published)"},
+    {"MeasureThresholdAboveOne", plus(measured() + "  damage_threshold: 1.5"),
+     "bad.yaml:12: measure.damage_threshold: damage_threshold must lie in (0, 1), got 1.5 "
+     "(allowed: 0 < damage_threshold < 1)"},
+    {"MeasureEveryZero", plus(measured() + "  every: 0"),
+     "bad.yaml:12: measure.every: every must be an integer > 0, got 0 (allowed: integers >= 1)"},
+    {"MeasureSmoothingFraction", plus(measured() + "  smoothing: 1.5"),
+     "bad.yaml:12: measure.smoothing: expected an integer, got '1.5'"},
+    {"MeasureBranchSeparationZero", plus(measured() + "  branch_separation: 0"),
+     "bad.yaml:12: measure.branch_separation: branch_separation must be > 0, got 0"},
+    {"MeasureEmptyTips", plus("effects: {fracture: true}\nmeasure:\n  tips: []"),
+     "bad.yaml:10: measure.tips: give at least one notch tip (allowed: a list of {name: ..., at: "
+     "[...], direction: [...]})"},
+    {"MeasureWithoutTips", plus("effects: {fracture: true}\nmeasure: {every: 5}"),
+     "bad.yaml:9: measure: missing required key 'tips'"},
+    {"MeasureDuplicateTipName",
+     plus(measured() + "    - {name: a, at: [0.2, 0.5], direction: [0, 1]}"),
+     "bad.yaml:12: measure.tips.1.name: duplicate tip name 'a' (first given on line 11)"},
+    {"MeasureTipNameWithComma", plus(measured("{name: 'a,b', at: [0.5, 0.5], direction: [1, 0]}")),
+     "bad.yaml:11: measure.tips.0.name: tip name 'a,b' cannot be written as a cracks.csv cell"},
+    {"MeasureZeroDirection", plus(measured("{name: a, at: [0.5, 0.5], direction: [0, 0]}")),
+     "bad.yaml:11: measure.tips.0.direction: direction must not be the zero vector"},
+    {"MeasureTipWithThreeComponents",
+     plus(measured("{name: a, at: [0.5, 0.5, 0], direction: [1, 0]}")),
+     "bad.yaml:11: measure.tips.0.at: expected a list of 2 numbers (one per axis), got 3 items"},
+    {"MeasureTipUnknownKey",
+     plus(measured("{name: a, at: [0.5, 0.5], direction: [1, 0], dir: [1, 0]}")),
+     "bad.yaml:11: measure.tips.0.dir: unknown key 'dir' (allowed: name, at, direction)"},
+    {"MeasureWithoutFracture",
+     plus("measure:\n  tips:\n    - {name: a, at: [0.5, 0.5], direction: [1, 0]}"),
+     "bad.yaml:8: measure: measure follows cracks through the damage field, which needs "
+     "effects.fracture: true (allowed: effects: {fracture: true})"},
+    {"MeasurePublishedWord", plus(measured() + "  published: {a: {angle_deg: steep}}"),
+     "bad.yaml:12: measure.published.a.angle_deg: expected a number, got 'steep'"},
+    {"MeasurePublishedListOfLists", plus(measured() + "  published: {a: [[1, 2]]}"),
+     "bad.yaml:12: measure.published.a.0: expected a number, got a list"},
+    {"MeasurePublishedNotAMap", plus(measured() + "  published: 5"),
+     "bad.yaml:12: measure.published: expected a map of names to published values, got '5'"},
+    {"MeasureSetThreshold",
+     plus(measured()),
+     "--set measure.damage_threshold: damage_threshold must lie in (0, 1), got 0",
+     {{"measure.damage_threshold", "0"}}},
     {"NameWithSlash", replace_line(1, "name: a/b"),
      "bad.yaml:1: name: name 'a/b' cannot be used in output file names"},
     {"SyntaxError", replace_line(6, "  - {shape: box, min: [0, 0, max: [1, 1]}"),

@@ -42,38 +42,95 @@ void write_text_atomically(const std::string& path, const std::string& text) {
   }
 }
 
+constexpr const char* kRefinementHeader =
+    "generation,step,time,parents,children,dropped,particles,bonds,rows_rebuilt,bonds_rebuilt,"
+    "rows_touched,started_broken,dt,seconds,resorted,resort_seconds";
+
+constexpr const char* kCracksHeader =
+    "step,time,tip,x,y,z,distance,path_length,speed,angle_deg,branches";
+
+/// A CSV file with its header written and flushed; `what` names it in errors.
+std::ofstream open_csv(const std::string& path, const char* header, const char* what) {
+  std::ofstream out(path, std::ios::trunc);
+  if (!out) throw std::runtime_error(fmt::format("cannot open {} file '{}'", what, path));
+  out << header << '\n';
+  out.flush();
+  if (!out) throw std::runtime_error(fmt::format("cannot write {} file '{}'", what, path));
+  return out;
+}
+
+/// Appends one row and flushes it, so a crash keeps every row written before.
+void write_row(std::ofstream& out, const std::string& row, const char* what) {
+  out << row;
+  out.flush();
+  if (!out) throw std::runtime_error(fmt::format("cannot write {} row", what));
+}
+
+nlohmann::ordered_json optional_number(const std::optional<double>& v) {
+  return v ? nlohmann::ordered_json(*v) : nlohmann::ordered_json(nullptr);
+}
+
+nlohmann::ordered_json published_json(const measure::Published& v) {
+  using Kind = measure::Published::Kind;
+  if (v.kind == Kind::Number)
+    return v.integer ? nlohmann::ordered_json(static_cast<std::int64_t>(v.number))
+                     : nlohmann::ordered_json(v.number);
+  if (v.kind == Kind::List) return nlohmann::ordered_json(v.list);
+  nlohmann::ordered_json map = nlohmann::ordered_json::object();
+  for (std::size_t k = 0; k < v.keys.size(); ++k) map[v.keys[k]] = published_json(v.values[k]);
+  return map;
+}
+
+nlohmann::ordered_json crack_json(const measure::CrackSummary& c) {
+  nlohmann::ordered_json j;
+  j["name"] = c.name;
+  j["initiation_time"] = optional_number(c.initiation_time);
+  j["angle_deg"] = optional_number(c.angle_deg);
+  j["max_speed"] = optional_number(c.max_speed);
+  j["mean_speed"] = optional_number(c.mean_speed);
+  j["branch_times"] = c.branch_times;
+  j["branch_positions"] = c.branch_positions;
+  j["tip"] = c.tip;
+  return j;
+}
+
 }  // namespace
 
-HistoryWriter::HistoryWriter(const std::string& path) : out_(path, std::ios::trunc) {
-  if (!out_) throw std::runtime_error(fmt::format("cannot open history file '{}'", path));
-  out_ << kHistoryHeader << '\n';
-  out_.flush();
-  if (!out_) throw std::runtime_error(fmt::format("cannot write history file '{}'", path));
-}
+HistoryWriter::HistoryWriter(const std::string& path)
+    : out_(open_csv(path, kHistoryHeader, "history")) {}
 
 void HistoryWriter::write(const HistoryRow& row) {
-  out_ << fmt::format(
-      "{},{:.17g},{:.17g},{},{},{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g}\n", row.step,
-      row.time, row.dt, row.particles, row.bonds, row.broken_bonds, row.kinetic_energy,
-      row.strain_energy, row.external_work, row.momentum[0], row.momentum[1], row.momentum[2]);
-  out_.flush();
-  if (!out_) throw std::runtime_error("cannot write history row");
+  write_row(
+      out_,
+      fmt::format("{},{:.17g},{:.17g},{},{},{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g}\n",
+                  row.step, row.time, row.dt, row.particles, row.bonds, row.broken_bonds,
+                  row.kinetic_energy, row.strain_energy, row.external_work, row.momentum[0],
+                  row.momentum[1], row.momentum[2]),
+      "history");
 }
 
-RefinementWriter::RefinementWriter(const std::string& path) : out_(path, std::ios::trunc) {
-  out_ << "generation,step,time,parents,children,dropped,particles,bonds,rows_rebuilt,"
-          "bonds_rebuilt,rows_touched,started_broken,dt,seconds,resorted,resort_seconds\n";
-  out_.flush();
-  if (!out_) throw std::runtime_error(fmt::format("cannot write refinement file '{}'", path));
-}
+RefinementWriter::RefinementWriter(const std::string& path)
+    : out_(open_csv(path, kRefinementHeader, "refinement")) {}
 
 void RefinementWriter::write(const RefinementRow& r) {
-  out_ << fmt::format("{},{},{:.17g},{},{},{},{},{},{},{},{},{},{:.17g},{:.6g},{},{:.6g}\n",
-                      r.generation, r.step, r.time, r.parents, r.children, r.dropped, r.particles,
-                      r.bonds, r.rows_rebuilt, r.bonds_rebuilt, r.rows_touched, r.started_broken,
-                      r.dt, r.seconds, r.resorted, r.resort_seconds);
-  out_.flush();
-  if (!out_) throw std::runtime_error("cannot write refinement row");
+  write_row(out_,
+            fmt::format("{},{},{:.17g},{},{},{},{},{},{},{},{},{},{:.17g},{:.6g},{},{:.6g}\n",
+                        r.generation, r.step, r.time, r.parents, r.children, r.dropped, r.particles,
+                        r.bonds, r.rows_rebuilt, r.bonds_rebuilt, r.rows_touched, r.started_broken,
+                        r.dt, r.seconds, r.resorted, r.resort_seconds),
+            "refinement");
+}
+
+CrackWriter::CrackWriter(const std::string& path, std::vector<std::string> tip_names)
+    : out_(open_csv(path, kCracksHeader, "cracks")), names_(std::move(tip_names)) {}
+
+void CrackWriter::write(const measure::TipRow& r) {
+  write_row(
+      out_,
+      fmt::format("{},{:.17g},{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{}\n",
+                  r.step, r.time, names_.at(r.tip), r.x[0], r.x[1], r.x[2], r.distance,
+                  r.path_length, r.speed, r.angle_deg, r.branches),
+      "cracks");
 }
 
 void write_summary(const std::string& path, const Summary& s) {
@@ -99,6 +156,13 @@ void write_summary(const std::string& path, const Summary& s) {
   nlohmann::ordered_json phases = nlohmann::ordered_json::object();
   for (const PhaseSeconds& p : s.phases) phases[p.name] = p.seconds;
   j["seconds_per_phase"] = phases;
+  if (s.cracks) {
+    j["rayleigh_speed"] = s.cracks->rayleigh_speed;
+    nlohmann::ordered_json cracks = nlohmann::ordered_json::array();
+    for (const auto& c : s.cracks->cracks) cracks.push_back(crack_json(c));
+    j["cracks"] = cracks;
+    if (s.cracks->published) j["published"] = published_json(*s.cracks->published);
+  }
   write_text_atomically(path, j.dump(2) + "\n");
 }
 

@@ -1,9 +1,13 @@
-// Text outputs of a run: history.csv, summary.json and the terminal progress line.
+// Text outputs of a run: history.csv, refinement.csv, cracks.csv, summary.json and the terminal
+// progress line.
 #pragma once
 #include <cstdint>
 #include <fstream>
+#include <optional>
 #include <string>
 #include <vector>
+
+#include "tools/crack_measure.hpp"
 
 namespace dhpd::io {
 
@@ -46,6 +50,24 @@ class RefinementWriter {
   std::ofstream out_;
 };
 
+/// cracks.csv (`measure`): one row per tip and measurement, header first, flushed per row.
+class CrackWriter {
+ public:
+  CrackWriter(const std::string& path, std::vector<std::string> tip_names);
+  void write(const measure::TipRow& row);
+
+ private:
+  std::ofstream out_;
+  std::vector<std::string> names_;
+};
+
+/// What summary.json says about the cracks of a run with `measure`.
+struct CrackReport {
+  double rayleigh_speed = 0.0;
+  std::vector<measure::CrackSummary> cracks;
+  std::optional<measure::Published> published;
+};
+
 struct PhaseSeconds {
   std::string name;
   double seconds = 0;
@@ -61,6 +83,7 @@ struct Summary {
   int threads = 1;
   std::vector<std::string> active_effects;
   std::vector<PhaseSeconds> phases;
+  std::optional<CrackReport> cracks;  ///< with `measure` only
 };
 
 /// Writes summary.json (atomically: temporary file, then rename).

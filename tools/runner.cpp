@@ -1,7 +1,7 @@
 // The run loop: step, diagnose, write history and frames, summarise; stop cleanly when unstable.
 #include "tools/runner.hpp"
 
-#include <fmt/core.h>
+#include <fmt/format.h>
 #include <omp.h>
 #include <chrono>
 #include <filesystem>
@@ -125,6 +125,34 @@ struct RefinementHook {
   }
 };
 
+/// Crack measurements of a scene with `measure`: cracks.csv and the summary's "cracks".
+struct CrackHook {
+  CrackHook(const scene::MeasureSpec& spec, const Simulation& sim, const fs::path& dir)
+      : tracker(spec.settings),
+        csv((dir / "cracks.csv").string(), tip_names(spec.settings)),
+        published(spec.published),
+        rayleigh_speed(measure::rayleigh_speed_near(sim.particles(), sim.setup().materials,
+                                                    sim.setup().section,
+                                                    spec.settings.tips.front().at)) {}
+  measure::CrackTracker tracker;
+  io::CrackWriter csv;
+  std::optional<measure::Published> published;
+  double rayleigh_speed;
+
+  static std::vector<std::string> tip_names(const measure::Settings& s) {
+    std::vector<std::string> names;
+    for (const auto& t : s.tips) names.push_back(t.name);
+    return names;
+  }
+  void take_measurement(Simulation& sim) {
+    sim.update_damage();
+    auto t = sim.timers().scope(Phase::Diagnostics);
+    for (const auto& row : tracker.measure(sim.particles(), sim.steps_done(), sim.time()))
+      csv.write(row);
+  }
+  io::CrackReport report() const { return {rayleigh_speed, tracker.summary(), published}; }
+};
+
 io::HistoryRow history_row(const Simulation& sim, const Energies& e) {
   io::HistoryRow r;
   r.step = sim.steps_done();
@@ -146,7 +174,12 @@ struct RunContext {
   io::FrameSeries frames;
   io::HistoryWriter history;
   std::vector<std::string> fields;
+  CrackHook* cracks = nullptr;  ///< with `measure` only
 
+  /// Measures the cracks at measurement steps and at the last step.
+  void measure(bool last) {
+    if (cracks && (last || cracks->tracker.due(sim.steps_done()))) cracks->take_measurement(sim);
+  }
   void write_frame() {
     auto t = sim.timers().scope(Phase::Output);
     if (sim.setup().effects.fracture) sim.update_damage();
@@ -215,6 +248,24 @@ void log_start(const scene::Scene& s, const Simulation& sim, std::int64_t steps,
              omp_get_max_threads(), dir.string());
 }
 
+/// One line per measured tip: initiation, angle, speeds against c_R, branchings.
+void log_cracks(const io::CrackReport& report) {
+  const double c_r = report.rayleigh_speed;
+  for (const auto& c : report.cracks) {
+    auto text = [](const std::optional<double>& v, const char* format) {
+      return v ? fmt::format(fmt::runtime(format), *v) : std::string("none");
+    };
+    fmt::print(
+        "dhpd: crack {}: initiation {} s, angle {} deg, max speed {} m/s ({} c_R), mean {} m/s, "
+        "{} branching(s){}\n",
+        c.name, text(c.initiation_time, "{:.4g}"), text(c.angle_deg, "{:.1f}"),
+        text(c.max_speed, "{:.4g}"),
+        text(c.max_speed ? std::optional<double>(*c.max_speed / c_r) : std::nullopt, "{:.2f}"),
+        text(c.mean_speed, "{:.4g}"), c.branch_times.size(),
+        c.branch_times.empty() ? "" : fmt::format(" at {:.4g} s", fmt::join(c.branch_times, ", ")));
+  }
+}
+
 void log_end(const io::Summary& sum) {
   fmt::print(
       "dhpd: {} in {:.3f} s: {} steps, {} broken bonds, {:.3g} bond updates/s, {:.3g} "
@@ -224,13 +275,16 @@ void log_end(const io::Summary& sum) {
   std::string phases;
   for (const auto& p : sum.phases) phases += fmt::format(" {} {:.3f} s;", p.name, p.seconds);
   fmt::print("dhpd: time per phase:{}\n", phases);
+  if (sum.cracks) log_cracks(*sum.cracks);
 }
 
-/// Steps until the schedule says the run is over; refinement checks after each due step.
+/// Steps until the schedule says the run is over; refinement checks after each due step, crack
+/// measurements at step 0, every `measure.every` steps and at the last step.
 void time_loop(RunContext& ctx, RefinementHook* hook, Schedule& schedule, io::Progress& progress,
                const std::function<double()>& elapsed) {
   auto& sim = ctx.sim;
   ctx.record(true);
+  ctx.measure(false);
   for (std::int64_t k = 1; !schedule.finished(k - 1, sim.time()); ++k) {
     sim.step();
     if (hook && hook->refiner.due(k)) {
@@ -239,6 +293,7 @@ void time_loop(RunContext& ctx, RefinementHook* hook, Schedule& schedule, io::Pr
     }
     const bool frame = schedule.frame(k, sim.time());
     if (frame || k % ctx.scene.output.history_every == 0) ctx.record(frame);
+    ctx.measure(schedule.finished(k, sim.time()));
     progress.update(k, sim.time(), sim.broken_bonds(), elapsed());
   }
   progress.finish();
@@ -268,8 +323,14 @@ void run_scene(const scene::Scene& s, const RunOptions& opt) {
     hook->csv = std::make_unique<io::RefinementWriter>((dir / "refinement.csv").string());
     for (const auto& ev : hook->pending) hook->log(*sim, ev);
   }
-  RunContext ctx{s, *sim, io::FrameSeries(dir.string(), s.name),
-                 io::HistoryWriter((dir / "history.csv").string()), output_field_names(s)};
+  std::unique_ptr<CrackHook> cracks;
+  if (s.measure) cracks = std::make_unique<CrackHook>(*s.measure, *sim, dir);
+  RunContext ctx{s,
+                 *sim,
+                 io::FrameSeries(dir.string(), s.name),
+                 io::HistoryWriter((dir / "history.csv").string()),
+                 output_field_names(s),
+                 cracks.get()};
   Schedule schedule(s, steps, s.refinement && s.time.end);
   io::Progress progress(steps, opt.progress && io::Progress::wanted());
   auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
@@ -277,6 +338,7 @@ void run_scene(const scene::Scene& s, const RunOptions& opt) {
     auto sum = make_summary(s, *sim, elapsed(), particles_start);
     sum.status = status;
     sum.refinement_events = hook ? hook->events : 0;
+    if (cracks) sum.cracks = cracks->report();
     return sum;
   };
   try {

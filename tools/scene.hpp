@@ -16,6 +16,7 @@
 #include "geometry/mesh_points.hpp"
 #include "geometry/shapes.hpp"
 #include "refine/refiner.hpp"
+#include "tools/crack_measure.hpp"
 
 namespace dhpd::scene {
 
@@ -103,6 +104,14 @@ struct RefinementSpec {
   Location where;  ///< of the `refinement` key
 };
 
+/// `measure` (cases/README.md): crack measurements written to cracks.csv and summary.json.
+struct MeasureSpec {
+  measure::Settings settings;
+  std::optional<measure::Published> published;
+  std::vector<Location> tip_at;  ///< where each tip's `at` was given (checked against the body)
+  Location where;                ///< of the `measure` key
+};
+
 /// The point fields every frame carries, and the extra ones `output.fields` may ask for.
 const std::vector<std::string>& default_fields();
 const std::vector<std::string>& optional_fields();
@@ -128,6 +137,7 @@ struct Scene {
   std::optional<RefinementSpec> refinement;
   TimeSpec time;
   OutputSpec output;
+  std::optional<MeasureSpec> measure;
 };
 
 /// A `--set key.path=value` override; value is parsed as YAML (so `false`, `5e-4`, `[0, 1]` work).

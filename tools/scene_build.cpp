@@ -1,11 +1,12 @@
 // Scene → SimulationSetup → Simulation, with the checks that need particles.
 #include "tools/scene_build.hpp"
 
-#include <fmt/core.h>
+#include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
 #include <algorithm>
 #include <cmath>
 #include <iterator>
+#include <limits>
 #include <map>
 #include <set>
 
@@ -135,8 +136,40 @@ SimulationSetup build_setup(const Scene& s) {
   return setup;
 }
 
+namespace {
+
+std::string point_text(const geometry::Vec3& x, int dim) {
+  return fmt::format("[{}]", fmt::join(x.begin(), x.begin() + dim, ", "));
+}
+
+/// Every measured notch tip lies inside the body's bounding box (the particles' cells).
+void check_tips(const Scene& s, const ParticleStore& p) {
+  if (!s.measure) return;
+  const int dim = s.dimension;
+  geometry::Vec3 lo{0, 0, 0}, hi{0, 0, 0};
+  for (int a = 0; a < dim; ++a) {
+    lo[a] = std::numeric_limits<double>::infinity();
+    hi[a] = -lo[a];
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      lo[a] = std::min(lo[a], p.reference_position[a][i] - 0.5 * p.spacing[i]);
+      hi[a] = std::max(hi[a], p.reference_position[a][i] + 0.5 * p.spacing[i]);
+    }
+  }
+  const auto& tips = s.measure->settings.tips;
+  for (std::size_t k = 0; k < tips.size(); ++k)
+    for (int a = 0; a < dim; ++a)
+      if (tips[k].at[a] < lo[a] || tips[k].at[a] > hi[a])
+        fail(s.measure->tip_at[k],
+             fmt::format("the notch tip {} lies outside the body's bounding box",
+                         point_text(tips[k].at, dim)),
+             fmt::format("{} to {}", point_text(lo, dim), point_text(hi, dim)));
+}
+
+}  // namespace
+
 std::unique_ptr<Simulation> build_simulation(const Scene& s) {
   auto sim = std::make_unique<Simulation>(build_setup(s));
+  check_tips(s, sim->particles());
   if (!sim->dt_is_stable())
     fail({s.time.where.file, s.time.where.line, "time.dt"},
          fmt::format("{:.6g} s is above the stable time step {:.6g} s", sim->dt(),

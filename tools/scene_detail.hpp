@@ -112,6 +112,8 @@ void check_crack(const Cursor& at, const geometry::Crack& crack, int dim);
 /// from the returned map view (unknown keys are refused with a suggestion).
 std::pair<geometry::Shape, MapView> shape_from(const Cursor& c, int dim,
                                                const std::vector<std::string>& extra);
+/// A list of `dim` numbers that is not the zero vector (the message names the key).
+geometry::Vec3 nonzero_vector(const Cursor& c, int dim);
 /// A region: a map of exactly one shape's keys.
 geometry::Shape read_shape(const Cursor& c, int dim);
 /// The scene word of node `index` of a shape ("disk" in 2D, "sphere" in 3D for a ball).
@@ -128,6 +130,9 @@ std::vector<LocatedBoundaryCondition> read_boundary_conditions(const Cursor& c, 
 
 /// `effects.refinement` (scene_refinement.cpp); body and model must already be read.
 std::optional<RefinementSpec> read_refinement(const Cursor& c, const Scene& s);
+
+/// The `measure` block (scene_measure.cpp); effects must already be read.
+MeasureSpec read_measure(const Cursor& c, const Scene& s);
 
 /// The `body` list (scene_body.cpp); materials must already be read.
 std::vector<BodyPart> read_body(const Cursor& c, const Scene& s);

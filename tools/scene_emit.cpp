@@ -252,6 +252,52 @@ void emit_effects(YAML::Emitter& out, const Scene& s) {
   out << YAML::EndMap << YAML::EndMap;
 }
 
+void emit_published(YAML::Emitter& out, const measure::Published& v) {
+  using Kind = measure::Published::Kind;
+  switch (v.kind) {
+    case Kind::Number:
+      out << (v.integer ? fmt::format("{}", static_cast<std::int64_t>(v.number))
+                        : number_text(v.number));
+      break;
+    case Kind::List:
+      out << YAML::Flow << YAML::BeginSeq;
+      for (const double d : v.list) out << number_text(d);
+      out << YAML::EndSeq;
+      break;
+    case Kind::Map:
+      out << YAML::BeginMap;
+      for (std::size_t k = 0; k < v.keys.size(); ++k) {
+        out << YAML::Key << v.keys[k] << YAML::Value;
+        emit_published(out, v.values[k]);
+      }
+      out << YAML::EndMap;
+      break;
+  }
+}
+
+void emit_measure(YAML::Emitter& out, const Scene& s) {
+  if (!s.measure) return;
+  const auto& m = s.measure->settings;
+  out << YAML::Key << "measure" << YAML::Value << YAML::BeginMap;
+  out << YAML::Key << "damage_threshold" << YAML::Value << number_text(m.damage_threshold);
+  out << YAML::Key << "every" << YAML::Value << m.every;
+  out << YAML::Key << "smoothing" << YAML::Value << m.smoothing;
+  out << YAML::Key << "branch_separation" << YAML::Value << number_text(m.branch_separation);
+  out << YAML::Key << "tips" << YAML::Value << YAML::BeginSeq;
+  for (const auto& tip : m.tips) {
+    out << YAML::Flow << YAML::BeginMap << YAML::Key << "name" << YAML::Value << tip.name;
+    emit_key_point(out, "at", tip.at, s.dimension);
+    emit_key_point(out, "direction", tip.direction, s.dimension);
+    out << YAML::EndMap;
+  }
+  out << YAML::EndSeq;
+  if (s.measure->published) {
+    out << YAML::Key << "published" << YAML::Value;
+    emit_published(out, *s.measure->published);
+  }
+  out << YAML::EndMap;
+}
+
 }  // namespace
 
 std::string resolved_yaml(const Scene& s) {
@@ -281,6 +327,7 @@ std::string resolved_yaml(const Scene& s) {
   emit_effects(out, s);
   emit_time(out, s.time);
   emit_output(out, s.output);
+  emit_measure(out, s);
   out << YAML::EndMap;
   return std::string(out.c_str()) + "\n";
 }

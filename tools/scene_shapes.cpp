@@ -49,12 +49,6 @@ std::string shape_word(const Cursor& c, int dim) {
   return shapes_for(dim)[word.choice(shapes_for(dim))];
 }
 
-Vec3 nonzero_vector(const Cursor& c, int dim) {
-  const Vec3 v = c.point(dim);
-  if (geometry::norm(v) == 0.0) c.fail(fmt::format("{} must not be the zero vector", c.key()));
-  return v;
-}
-
 std::string point_text(const Vec3& p) {
   return fmt::format("[{}, {}]", p[0], p[1]);
 }
@@ -127,6 +121,12 @@ Shape shape_of(const MapView& map, const std::string& word, int dim) {
 }
 
 }  // namespace
+
+Vec3 nonzero_vector(const Cursor& c, int dim) {
+  const Vec3 v = c.point(dim);
+  if (geometry::norm(v) == 0.0) c.fail(fmt::format("{} must not be the zero vector", c.key()));
+  return v;
+}
 
 std::pair<Shape, MapView> shape_from(const Cursor& c, int dim,
                                      const std::vector<std::string>& extra) {

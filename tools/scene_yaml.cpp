@@ -47,7 +47,8 @@ const std::vector<std::string> kTopLevelKeys{"name",
                                              "boundary_conditions",
                                              "effects",
                                              "time",
-                                             "output"};
+                                             "output",
+                                             "measure"};
 
 YAML::Node parse_tree(const std::string& text, const std::string& file) {
   YAML::Node root;
@@ -228,6 +229,7 @@ Scene read_scene(const Cursor& root, const std::string& file) {
   } else {
     s.output.frames = 20;
   }
+  if (const auto measure = top.get("measure")) s.measure = detail::read_measure(*measure, s);
   return s;
 }
 

@@ -1,0 +1,142 @@
+// Crack measurements from the damage field: tip, speed, angle, branching (IJNME 2016 eq. 59–60;
+// dhpd.md §9). Pure functions of the particle store; no VTK, no CGAL.
+#pragma once
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "engine/material_law.hpp"
+#include "engine/particles.hpp"
+#include "geometry/vec.hpp"
+
+namespace dhpd::measure {
+
+using geometry::Vec3;
+
+/// A notch tip to follow: where the crack starts and the direction of the notch.
+struct Tip {
+  std::string name;
+  Vec3 at{0, 0, 0};
+  Vec3 direction{1, 0, 0};  ///< non-zero, need not be unit
+};
+
+/// The `measure` block of a scene (cases/README.md, `measure`).
+struct Settings {
+  double damage_threshold = 0.35;  ///< φ ≥ this counts as cracked
+  std::int64_t every = 10;         ///< steps between measurements
+  std::int64_t smoothing = 1;      ///< speed over this many measurement intervals (eq. 59: 1)
+  double branch_separation = 2.0;  ///< distinct branches: centroids farther than this × δ
+  std::vector<Tip> tips;
+};
+
+/// Published reference values echoed into summary.json: a number, a list of numbers, or a map of
+/// such values (keys in the order given).
+struct Published {
+  enum class Kind { Number, List, Map };
+  Kind kind = Kind::Map;
+  double number = 0.0;
+  bool integer = false;  ///< the number was written as an integer (echoed as one)
+  std::vector<double> list;
+  std::vector<std::string> keys;
+  std::vector<Published> values;
+};
+
+/// One tip at one measurement: a row of cracks.csv.
+struct TipRow {
+  std::int64_t step = 0;
+  double time = 0.0;
+  std::size_t tip = 0;    ///< index into Settings::tips
+  Vec3 x{0, 0, 0};        ///< crack tip, reference position (the notch tip while nothing cracked)
+  double distance = 0.0;  ///< |x − notch tip|
+  double path_length = 0.0;  ///< shortest path through the crack from the notch tip to x
+  double speed = 0.0;        ///< eq. 59 over `smoothing` intervals (0 at the first measurement)
+  double angle_deg = 0.0;    ///< between the notch direction and x − notch tip; NaN at distance 0
+  int branches = 0;          ///< separated clusters (1 for a single crack, 0 when none)
+};
+
+/// What a run reports for one tip (summary.json "cracks").
+struct CrackSummary {
+  std::string name;
+  std::optional<double> initiation_time;  ///< first time the tip is > one horizon from the notch
+  std::optional<double> angle_deg;        ///< at the last measurement
+  std::optional<double> max_speed;        ///< largest speed over intervals from initiation on
+  std::optional<double> mean_speed;       ///< path advanced since initiation / time since then
+  std::vector<double> branch_times;
+  std::vector<Vec3> branch_positions;  ///< the centroids of the clusters at each new branching
+  Vec3 tip{0, 0, 0};
+};
+
+/// The damaged set of one measurement as a graph: i, j linked when
+/// |X_i − X_j| ≤ 1.5 · max(Δx_i, Δx_j). Local indices; `particle` maps them to store slots.
+struct DamageGraph {
+  std::vector<std::int32_t> particle;
+  std::vector<std::size_t> offset;  ///< CSR: links of node n are [offset[n], offset[n+1])
+  std::vector<std::int32_t> neighbor;
+  std::vector<double> length;
+  std::size_t size() const { return particle.size(); }
+};
+
+/// The particles with φ ≥ threshold and their links.
+DamageGraph damage_graph(const ParticleStore& p, double threshold);
+
+/// The crack of one tip: the nodes reached from the particles within one horizon of the notch
+/// tip, with their path distance (seeded with the straight distance), and the farthest of them.
+struct CrackPath {
+  std::vector<double> path;  ///< per node of the graph; +inf when not in this crack
+  std::int32_t tip = -1;     ///< node farthest along the path, −1 when the crack is empty
+};
+CrackPath crack_path(const DamageGraph& g, const ParticleStore& p, const Vec3& notch_tip);
+
+/// Branches of a crack: its nodes binned by path distance in bins one horizon wide (the largest
+/// horizon of the crack), clusters of linked nodes within a bin, and the largest number of
+/// clusters of one bin whose centroids are pairwise farther apart than `separation` × the largest
+/// horizon of that bin. `centroids` are those clusters' (of the first bin with the most).
+struct Branches {
+  int count = 0;
+  std::vector<Vec3> centroids;
+};
+Branches count_branches(const DamageGraph& g, const CrackPath& crack, const ParticleStore& p,
+                        double separation);
+
+/// Follows every tip over the measurements of a run. It keeps no particle index between
+/// measurements, so the store may change (refinement) from one to the next.
+class CrackTracker {
+ public:
+  explicit CrackTracker(Settings settings);
+
+  const Settings& settings() const { return s_; }
+  /// Whether step k is a measurement step (every `every` steps, from step 0).
+  bool due(std::int64_t step) const { return step % s_.every == 0; }
+  /// Measures every tip on the current damage of `p` (φ must be up to date); one row per tip.
+  std::vector<TipRow> measure(const ParticleStore& p, std::int64_t step, double time);
+  /// One entry per tip, in the order of Settings::tips.
+  std::vector<CrackSummary> summary() const;
+
+ private:
+  struct Track {
+    std::vector<double> time;
+    std::vector<Vec3> x;
+    std::vector<double> path;
+    std::optional<std::size_t> initiated;  ///< index of the initiation measurement
+    std::optional<double> max_speed;
+    std::optional<double> angle_deg;
+    int most_branches = 0;
+    std::vector<double> branch_times;
+    std::vector<Vec3> branch_positions;
+  };
+  TipRow measure_tip(const DamageGraph& g, const ParticleStore& p, std::size_t k, std::int64_t step,
+                     double time);
+
+  Settings s_;
+  std::vector<Track> tracks_;
+};
+
+/// Rayleigh speed (IJNME 2016 eq. 60) of the material of the particle nearest `at`.
+double rayleigh_speed_near(const ParticleStore& p, const std::vector<Material>& materials,
+                           const Section& section, const Vec3& at);
+
+/// Unsigned angle in degrees between two non-zero vectors (NaN when one is zero).
+double angle_between_deg(const Vec3& a, const Vec3& b);
+
+}  // namespace dhpd::measure
