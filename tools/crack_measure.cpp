@@ -244,10 +244,12 @@ TipRow CrackTracker::measure_tip(const DamageGraph& g, const ParticleStore& p, s
   const std::size_t back = std::min(static_cast<std::size_t>(s_.smoothing), l);
   if (back > 0 && t.time[l] > t.time[l - back])
     r.speed = geometry::norm(t.x[l] - t.x[l - back]) / (t.time[l] - t.time[l - back]);
-  if (!t.initiated && r.distance > horizon) t.initiated = l;
-  // Speeds over intervals that start before initiation follow damage forming around the notch
-  // tip (or appearing at once above the threshold), not a running crack: they are left out.
-  if (t.initiated && l - back >= *t.initiated && back > 0)
+  // Initiation: the crack exists (a damaged particle linked to the notch tip). It runs once its
+  // tip is more than one horizon out; speeds over intervals that start earlier follow damage
+  // forming around the notch tip (or appearing at once above the threshold): they are left out.
+  if (!t.initiated && std::isfinite(horizon)) t.initiated = l;
+  if (!t.running && r.distance > horizon) t.running = l;
+  if (t.running && l - back >= *t.running && back > 0)
     t.max_speed = std::max(t.max_speed.value_or(0.0), r.speed);
   t.angle_deg = std::isnan(r.angle_deg) ? std::nullopt : std::optional<double>(r.angle_deg);
   const Branches branches = count_branches(g, crack, p, s_.branch_separation);
@@ -272,9 +274,9 @@ std::vector<CrackSummary> CrackTracker::summary() const {
     c.branch_times = t.branch_times;
     c.branch_positions = t.branch_positions;
     c.tip = t.x.empty() ? s_.tips[k].at : t.x.back();
-    if (t.initiated) {
-      const std::size_t i = *t.initiated;
-      c.initiation_time = t.time[i];
+    if (t.initiated) c.initiation_time = t.time[*t.initiated];
+    if (t.running) {
+      const std::size_t i = *t.running;
       if (t.time.back() > t.time[i])
         c.mean_speed = (t.path.back() - t.path[i]) / (t.time.back() - t.time[i]);
     }

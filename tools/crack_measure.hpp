@@ -58,10 +58,10 @@ struct TipRow {
 /// What a run reports for one tip (summary.json "cracks").
 struct CrackSummary {
   std::string name;
-  std::optional<double> initiation_time;  ///< first time the tip is > one horizon from the notch
+  std::optional<double> initiation_time;  ///< first time a crack (φ ≥ threshold) meets the notch
   std::optional<double> angle_deg;        ///< at the last measurement
-  std::optional<double> max_speed;        ///< largest speed over intervals from initiation on
-  std::optional<double> mean_speed;       ///< path advanced since initiation / time since then
+  std::optional<double> max_speed;   ///< largest speed over intervals once the crack runs
+  std::optional<double> mean_speed;  ///< path advanced since it runs / time since then
   std::vector<double> branch_times;
   std::vector<Vec3> branch_positions;  ///< the centroids of the clusters at each new branching
   Vec3 tip{0, 0, 0};
@@ -118,7 +118,8 @@ class CrackTracker {
     std::vector<double> time;
     std::vector<Vec3> x;
     std::vector<double> path;
-    std::optional<std::size_t> initiated;  ///< index of the initiation measurement
+    std::optional<std::size_t> initiated;  ///< first measurement with a crack at the notch
+    std::optional<std::size_t> running;    ///< first measurement with the tip > one horizon out
     std::optional<double> max_speed;
     std::optional<double> angle_deg;
     int most_branches = 0;
