@@ -1,4 +1,4 @@
-// The dhpd command line: run, check, bench. The only place errors become exit codes:
+// The dhpd command line: run, check, bench, plot, report. The only place errors become exit codes:
 // 0 success, 1 internal error, 2 bad input (scene or command line), 3 unstable run.
 #include <fmt/core.h>
 #include <omp.h>
@@ -7,6 +7,7 @@
 
 #include "engine/errors.hpp"
 #include "tools/bench.hpp"
+#include "tools/plot_command.hpp"
 #include "tools/runner.hpp"
 #include "tools/scene.hpp"
 
@@ -65,6 +66,17 @@ int main(int argc, char** argv) {
   bench->add_flag("--refinement", bench_opt.refinement,
                   "time refinement events on the same refined set in bodies of N, 4N, 16N");
 
+  dhpd::PlotOptions plot_opt;
+  auto* plot = app.add_subcommand(
+      "plot", "pictures of a run in OUTDIR/plots/: field frames, energies, momentum, dt, cracks");
+  plot->add_option("outdir", plot_opt.directory, "output directory of a run")->required();
+  plot->add_option("--times", plot_opt.times, "plot the frames nearest these times, s: T1,T2,...")
+      ->delimiter(',');
+  plot->add_option("--field", plot_opt.field, "frame field to plot (default damage)");
+  auto* report_cmd = app.add_subcommand(
+      "report", "OUTDIR/report.md: the run, its pictures, measured vs published numbers");
+  report_cmd->add_option("outdir", plot_opt.directory, "output directory of a run")->required();
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -76,6 +88,11 @@ int main(int argc, char** argv) {
   }
 
   try {
+    if (*plot || *report_cmd) {
+      dhpd::check_run_directory(plot_opt.directory);
+      return dhpd::run_plot_script(dhpd::find_plot_script(DHPD_SOURCE_DIR),
+                                   *plot ? "plot" : "report", plot_opt);
+    }
     if (*bench) {
       if (bench_opt.refinement)
         dhpd::run_refinement_bench(bench_opt, std::cout);
