@@ -72,7 +72,7 @@ class OldSegments {
 ///      parent's own) were broken. A single long broken bond passing over a cell says little about
 ///      where along it the crack lies; a cell inside a fragmented zone is crossed mostly by broken
 ///      bonds. (Breaking siblings on any crossing broken bond gave children far from the crack a
-///      damage of about 0.05 at birth in cracked-plate-adaptive.)
+///      damage of about 0.05 at birth in branching_plate_adaptive.)
 /// When P and Q were bonded and intact the new bond is intact: a crossing test there would break
 /// every bond that a long broken bond passes over on the uncracked side. In 1D only (a) applies.
 /// `tube` is the 3D crossing radius (half the finer end's spacing).

@@ -60,8 +60,8 @@ struct CrackSummary {
   std::string name;
   std::optional<double> initiation_time;  ///< first time a crack (φ ≥ threshold) meets the notch
   std::optional<double> angle_deg;        ///< at the last measurement
-  std::optional<double> max_speed;   ///< largest speed over intervals once the crack runs
-  std::optional<double> mean_speed;  ///< path advanced since it runs / time since then
+  std::optional<double> max_speed;        ///< largest speed over intervals once the crack runs
+  std::optional<double> mean_speed;       ///< path advanced since it runs / time since then
   std::vector<double> branch_times;
   std::vector<Vec3> branch_positions;  ///< the centroids of the clusters at each new branching
   Vec3 tip{0, 0, 0};

@@ -1,5 +1,5 @@
-// The dhpd command line: run, check, bench, plot, report. The only place errors become exit codes:
-// 0 success, 1 internal error, 2 bad input (scene or command line), 3 unstable run.
+// The dhpd command line: run, check, bench, plot, report, study. The only place errors become exit
+// codes: 0 success, 1 internal error, 2 bad input (scene or command line), 3 unstable run.
 #include <fmt/core.h>
 #include <omp.h>
 #include <CLI/CLI.hpp>
@@ -76,6 +76,13 @@ int main(int argc, char** argv) {
   auto* report_cmd = app.add_subcommand(
       "report", "OUTDIR/report.md: the run, its pictures, measured vs published numbers");
   report_cmd->add_option("outdir", plot_opt.directory, "output directory of a run")->required();
+  dhpd::StudyOptions study_opt;
+  auto* study = app.add_subcommand(
+      "study",
+      "what accuracy costs in time: run a study's variants, write study.csv/.md, pareto.png");
+  study->add_option("study", study_opt.study_file, "study file (YAML, see tools/study.py)")
+      ->required();
+  study->add_option("-o,--out", study_opt.directory, "output folder (default study-NAME)");
 
   try {
     app.parse(argc, argv);
@@ -88,6 +95,8 @@ int main(int argc, char** argv) {
   }
 
   try {
+    if (*study)
+      return dhpd::run_study_script(dhpd::find_tool_script(DHPD_SOURCE_DIR, "study.py"), study_opt);
     if (*plot || *report_cmd) {
       dhpd::check_run_directory(plot_opt.directory);
       return dhpd::run_plot_script(dhpd::find_plot_script(DHPD_SOURCE_DIR),

@@ -57,28 +57,36 @@ void check_run_directory(const std::string& directory) {
   }
 }
 
-std::string find_plot_script(const std::string& source_dir) {
-  std::vector<fs::path> candidates{fs::path(source_dir) / "tools" / "plot_run.py"};
+std::string find_tool_script(const std::string& source_dir, const std::string& file) {
+  std::vector<fs::path> candidates{fs::path(source_dir) / "tools" / file};
   if (const fs::path exe = executable_directory(); !exe.empty()) {
-    candidates.push_back(exe.parent_path() / "tools" / "plot_run.py");
-    candidates.push_back(exe / "plot_run.py");
+    candidates.push_back(exe.parent_path() / "tools" / file);
+    candidates.push_back(exe / file);
   }
   std::string looked;
   for (const fs::path& c : candidates) {
     if (fs::is_regular_file(c)) return c.string();
     looked += (looked.empty() ? "" : ", ") + c.string();
   }
-  throw std::runtime_error(fmt::format("cannot find the plotting script (looked for {})", looked));
+  throw std::runtime_error(fmt::format("cannot find {} (looked for {})", file, looked));
 }
 
-int run_plot_script(const std::string& script, const std::string& command,
-                    const PlotOptions& options) {
+std::string find_plot_script(const std::string& source_dir) {
+  return find_tool_script(source_dir, "plot_run.py");
+}
+
+namespace {
+
+/// Runs /usr/bin/python3 with `args` (args[0] = "python3"); 0 or 2 from the script are returned,
+/// anything else throws.
+int run_python(const std::vector<std::string>& args, const std::string& command) {
   if (access(kPython, X_OK) != 0)
     throw InputError(fmt::format(
-        "{} is missing; dhpd {} needs Debian's Python 3 with matplotlib, numpy and VTK 9: sudo "
-        "apt-get install python3 python3-matplotlib python3-numpy python3-vtk9",
+        "{} is missing; dhpd {} needs Debian's Python 3 with matplotlib, numpy, scipy, yaml and "
+        "VTK 9: sudo apt-get install python3 python3-matplotlib python3-numpy python3-scipy "
+        "python3-yaml python3-vtk9",
         kPython, command));
-  const std::vector<std::string> args = script_arguments(script, command, options);
+  const std::string& script = args.at(1);
   std::vector<char*> argv;
   for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
   argv.push_back(nullptr);
@@ -97,6 +105,25 @@ int run_plot_script(const std::string& script, const std::string& command,
       WIFEXITED(status)
           ? fmt::format("{} {} failed with exit code {}", script, command, WEXITSTATUS(status))
           : fmt::format("{} {} was stopped by signal {}", script, command, WTERMSIG(status)));
+}
+
+}  // namespace
+
+int run_plot_script(const std::string& script, const std::string& command,
+                    const PlotOptions& options) {
+  return run_python(script_arguments(script, command, options), command);
+}
+
+int run_study_script(const std::string& script, const StudyOptions& options) {
+  if (!fs::is_regular_file(options.study_file))
+    throw InputError(fmt::format("{}: no such study file (a YAML file: see tools/study.py)",
+                                 options.study_file));
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (ec) throw std::runtime_error("cannot find the dhpd executable (/proc/self/exe)");
+  std::vector<std::string> args{"python3", script, options.study_file, "--dhpd", exe.string()};
+  if (!options.directory.empty()) args.insert(args.end(), {"--out", options.directory});
+  return run_python(args, "study");
 }
 
 }  // namespace dhpd

@@ -1,5 +1,6 @@
-// `dhpd plot` and `dhpd report`: check a run directory, find tools/plot_run.py and run it with
-// Debian's /usr/bin/python3 (matplotlib, numpy and VTK 9 from python3-matplotlib, python3-numpy,
+// `dhpd plot`, `dhpd report` and `dhpd study`: check their input, find the Python script in
+// tools/ (plot_run.py, study.py) and run it with Debian's /usr/bin/python3 (matplotlib, numpy,
+// scipy, yaml and VTK 9 from python3-matplotlib, python3-numpy, python3-scipy, python3-yaml,
 // python3-vtk9).
 #pragma once
 #include <string>
@@ -17,10 +18,20 @@ struct PlotOptions {
 /// holding summary.json and history.csv.
 void check_run_directory(const std::string& directory);
 
-/// tools/plot_run.py under `source_dir` (the tree the binary was built from), else beside the
+/// tools/`file` under `source_dir` (the tree the binary was built from), else beside the
 /// executable (EXE_DIR/../tools/ or EXE_DIR/, for a moved tree); throws std::runtime_error
 /// naming every place it looked.
+std::string find_tool_script(const std::string& source_dir, const std::string& file);
 std::string find_plot_script(const std::string& source_dir);
+
+struct StudyOptions {
+  std::string study_file;  ///< the study's YAML file
+  std::string directory;   ///< output folder; empty: study-NAME
+};
+
+/// Runs `/usr/bin/python3 SCRIPT STUDY --dhpd THIS_EXECUTABLE [--out DIR]` (tools/study.py) with
+/// the exit-code conventions of run_plot_script. Throws InputError when the study file is missing.
+int run_study_script(const std::string& script, const StudyOptions& options);
 
 /// Runs `/usr/bin/python3 SCRIPT COMMAND DIR [--times T,...] [--field F]` (COMMAND: plot or
 /// report) and returns dhpd's exit code: 0 done, 2 when the script reports bad input or a missing

@@ -3,7 +3,7 @@
 field, damage on a fixed 0-1 scale; 3D: the particles of the mid-thickness slice; 1D: the field
 along x). The drawing is plot_run.py's, which `dhpd plot` uses for whole runs.
 
-    /usr/bin/python3 tools/plot_frame.py out/cracked-plate_000020.vtu damage out/damage.png
+    /usr/bin/python3 tools/plot_frame.py out/branching_plate_uniform_000020.vtu damage out/damage.png
 """
 import argparse
 import os

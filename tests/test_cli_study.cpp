@@ -1,0 +1,79 @@
+// End-to-end: `dhpd study` on the 1D bar with a spacing jump (fast), its outputs, its Pareto
+// front and budget, and its refusals.
+#include <sstream>
+
+#include "tests/cli_support.hpp"
+
+namespace {
+
+using namespace dhpd::cli_test;  // NOLINT: the fixture's helpers
+
+class CliStudy : public CliTest {
+ protected:
+  /// A study of wave_bar_1d.yaml: the reference at a quarter of the case's spacings, variants at
+  /// the case's spacings and at half of them (a grid over the two parts' spacings).
+  void write_study(const std::string& extra = "") {
+    write("bar.yaml", "name: bar\ncase: " + std::string(DHPD_SOURCE_DIR) +
+                          "/cases/wave_bar_1d.yaml\n"
+                          "reference: {label: quarter, set: {body.0.spacing: 0.0104166666666666667,"
+                          " body.1.spacing: 0.00104166666666666667}}\n"
+                          "variants:\n"
+                          "  - {label: case spacing}\n"
+                          "  - {label: half, set: {body.0.spacing: 0.0208333333333333333,"
+                          " body.1.spacing: 0.00208333333333333333}}\n"
+                          "error: l2_displacement\n"
+                          "budget: {l2_displacement: 0.8}\n" +
+                          extra);
+  }
+
+  /// study.csv as rows of cells (header first).
+  std::vector<std::vector<std::string>> table(const fs::path& csv) {
+    std::vector<std::vector<std::string>> rows;
+    std::istringstream in(read_text(csv));
+    for (std::string line; std::getline(in, line);) {
+      std::vector<std::string> cells;
+      std::istringstream row(
+          line.substr(0, line.find(",\"{") == std::string::npos ? line.size() : line.find(",\"{")));
+      for (std::string cell; std::getline(row, cell, ',');) cells.push_back(cell);
+      rows.push_back(cells);
+    }
+    return rows;
+  }
+};
+
+TEST_F(CliStudy, RunsVariantsAndWritesTableReportAndPareto) {
+  write_study();
+  const auto o = dhpd({"study", "bar.yaml", "-o", "study"});
+  ASSERT_EQ(o.code, 0) << o.err;
+  for (const char* f : {"study.csv", "study.md", "pareto.png"})
+    EXPECT_TRUE(fs::exists(dir_ / "study" / f)) << f;
+  const auto rows = table(dir_ / "study" / "study.csv");
+  ASSERT_EQ(rows.size(), 4u);  // header, reference, two variants
+  EXPECT_EQ(rows[0][0], "label");
+  const std::size_t l2 = 10;  // label,case,wall_s,particle_steps,peak_mib,particles_end,5 metrics
+  ASSERT_EQ(rows[0][l2], "l2_displacement");
+  const double coarse = std::stod(rows[2][l2]), half = std::stod(rows[3][l2]);
+  // The displacement error against the fine reference falls with refinement (measured 0.99 and
+  // 0.71: the eq. 31 pulse is barely resolved in the coarse parts); only "half" is within 0.8.
+  EXPECT_GT(coarse, 0.0);
+  EXPECT_LT(half, coarse);
+  EXPECT_GT(std::stod(rows[1][4]), 1.0);  // the reference's own peak memory, MiB
+  const std::string md = read_text(dir_ / "study" / "study.md");
+  EXPECT_NE(md.find("| case spacing |"), std::string::npos) << md;
+  EXPECT_NE(md.find("Cheapest within the budget (l2_displacement ≤ 0.8): **half**"),
+            std::string::npos)
+      << md;
+}
+
+TEST_F(CliStudy, RefusesAMissingFileAndABadKey) {
+  const auto missing = dhpd({"study", "nowhere.yaml"});
+  EXPECT_EQ(missing.code, 2);
+  EXPECT_NE(missing.err.find("nowhere.yaml: no such study file"), std::string::npos) << missing.err;
+  write_study("speed: fast\n");
+  const auto bad = dhpd({"study", "bar.yaml", "-o", "study"});
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.err.find("unknown key(s) ['speed']"), std::string::npos) << bad.err;
+  EXPECT_FALSE(fs::exists(dir_ / "study" / "study.csv"));
+}
+
+}  // namespace

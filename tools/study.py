@@ -1,0 +1,348 @@
+#!/usr/bin/python3
+"""What accuracy costs in time: `dhpd study STUDY.yaml` (issue 5).
+
+Runs a family of variants of one case (spacings, static fine/coarse zones, refinement thresholds,
+buffers, levels), each through `dhpd run` with `--set` overrides, and measures for each its wall
+time, particle-steps and peak memory, and its errors against a reference run: crack angle,
+initiation time, tip-path distance, damage-field difference and L2 displacement error
+(dhpd.md §9). Writes study.csv, study.md and pareto.png (error against time, Pareto front
+marked) into the output folder and names the cheapest variant within the error budget.
+
+Study file (YAML):
+    name: branching_plate            # used in titles
+    case: branching_plate_uniform.yaml   # scene file, relative to the study file
+    reference: {label: uniform 0.25 mm, set: {body.0.spacing: 0.00025}}
+    variants:
+      - {label: uniform 1 mm, set: {body.0.spacing: 0.001}}
+      - {label: adaptive, case: branching_plate_adaptive.yaml,
+         grid: {effects.refinement.trigger.damage: [0.02, 0.05]}}
+    error: angle_deg                 # the error plotted against time (any metric below)
+    budget: {angle_deg: 3.0, tip_path: 0.002}   # limits for the "cheapest within budget"
+    threads: 2                       # optional: --threads for every run
+A variant may name its own `case`, fixed `set` overrides and a `grid` of overrides whose
+cartesian product gives one run each. Metrics: angle_deg (largest |Δ angle| over the tips),
+initiation (largest |Δ t_init| / t_init,ref), tip_path (largest distance, m, from a variant's
+tip positions to the reference tip path), damage (∫|φ − φ_ref| dV / ∫φ_ref dV at the end),
+l2_displacement (‖u − u_ref‖ / ‖u_ref‖ at the end, ‖u‖² = Σ u·u V).
+"""
+import argparse
+import csv
+import itertools
+import json
+import math
+import os
+import resource
+import subprocess
+import sys
+import time
+
+import numpy as np
+import yaml
+from scipy.spatial import cKDTree  # nearest reference particle
+
+METRICS = ["angle_deg", "initiation", "tip_path", "damage", "l2_displacement"]
+
+
+def fail(message):
+    """Input errors exit with code 2, like the rest of dhpd."""
+    sys.stderr.write(f"dhpd study: error: {message}\n")
+    sys.exit(2)
+
+
+def expand(study_dir, default_case, entry):
+    """The runs of one variant entry: (label, case path, overrides) for each grid point."""
+    case = os.path.join(study_dir, entry.get("case", default_case))
+    fixed = dict(entry.get("set", {}))
+    grid = entry.get("grid", {})
+    keys = list(grid)
+    runs = []
+    for values in itertools.product(*(grid[k] for k in keys)) if keys else [()]:
+        overrides = dict(fixed)
+        overrides.update(zip(keys, values))
+        suffix = ", ".join(f"{k.split('.')[-1]}={v}" for k, v in zip(keys, values))
+        label = entry.get("label", os.path.basename(case))
+        runs.append((f"{label} ({suffix})" if suffix else label, case, overrides))
+    return runs
+
+
+def load_study(path):
+    with open(path) as f:
+        study = yaml.safe_load(f)
+    if not isinstance(study, dict):
+        fail(f"{path}: expected a map with case, reference and variants")
+    for key in ("case", "variants"):
+        if key not in study:
+            fail(f"{path}: missing key '{key}'")
+    unknown = set(study) - {"name", "case", "reference", "variants", "error", "budget", "threads"}
+    if unknown:
+        fail(f"{path}: unknown key(s) {sorted(unknown)}")
+    if study.get("error", "angle_deg") not in METRICS:
+        fail(f"{path}: error '{study['error']}' is not one of {METRICS}")
+    for key in study.get("budget", {}):
+        if key not in METRICS:
+            fail(f"{path}: budget key '{key}' is not one of {METRICS}")
+    return study
+
+
+def run_one(dhpd, case, overrides, out_dir, threads):
+    """Runs one variant; returns its summary, wall seconds and peak memory (MiB)."""
+    cmd = [dhpd, "run", case, "--out", out_dir, "--quiet"]
+    if threads:
+        cmd += ["--threads", str(threads)]
+    for key, value in overrides.items():
+        text = json.dumps(value) if isinstance(value, (list, dict)) else str(value)
+        cmd += ["--set", f"{key}={text}"]
+    start = time.monotonic()
+    with open(os.devnull, "w") as quiet, subprocess.Popen(
+            cmd, stdout=quiet, stderr=subprocess.PIPE, text=True) as proc:
+        _, status, usage = os.wait4(proc.pid, 0)  # this child's own peak memory
+        wall = time.monotonic() - start
+        proc.returncode = os.waitstatus_to_exitcode(status)
+        errors = proc.stderr.read()
+    if proc.returncode != 0:
+        fail(f"run of {case} with {overrides} failed (exit {proc.returncode}):\n{errors}")
+    with open(os.path.join(out_dir, "summary.json")) as f:
+        summary = json.load(f)
+    return summary, wall, usage.ru_maxrss / 1024.0
+
+
+def last_frame(out_dir):
+    """Reference positions, volumes, displacement and damage of the run's last frame."""
+    import vtk
+    from vtk.util.numpy_support import vtk_to_numpy
+
+    pvd = [f for f in os.listdir(out_dir) if f.endswith(".pvd")]
+    frames = sorted(f for f in os.listdir(out_dir) if f.endswith(".vtu"))
+    if not pvd or not frames:
+        return None
+    reader = vtk.vtkXMLUnstructuredGridReader()
+    reader.SetFileName(os.path.join(out_dir, frames[-1]))
+    reader.Update()
+    grid = reader.GetOutput()
+    data = grid.GetPointData()
+
+    def field(name):
+        array = data.GetArray(name)
+        return None if array is None else vtk_to_numpy(array)
+
+    u = field("displacement")
+    x = vtk_to_numpy(grid.GetPoints().GetData()) - u
+    return {"x": x, "u": u, "volume": field("volume"), "damage": field("damage")}
+
+
+def tip_paths(out_dir):
+    """Tip positions per tip name from cracks.csv (empty when the scene measures nothing)."""
+    path = os.path.join(out_dir, "cracks.csv")
+    paths = {}
+    if not os.path.exists(path):
+        return paths
+    with open(path) as f:
+        for row in csv.DictReader(f):
+            paths.setdefault(row["tip"], []).append(
+                [float(row["x"]), float(row["y"]), float(row["z"])])
+    return {k: np.array(v) for k, v in paths.items()}
+
+
+def crack_errors(summary, ref_summary):
+    """Largest angle difference (deg) and relative initiation-time difference over the tips."""
+    ref = {c["name"]: c for c in ref_summary.get("cracks", [])}
+    angle, initiation = None, None
+    for crack in summary.get("cracks", []):
+        r = ref.get(crack["name"])
+        if r is None:
+            continue
+        if crack.get("angle_deg") is not None and r.get("angle_deg") is not None:
+            angle = max(angle or 0.0, abs(crack["angle_deg"] - r["angle_deg"]))
+        t, tr = crack.get("initiation_time"), r.get("initiation_time")
+        if t is not None and tr:
+            initiation = max(initiation or 0.0, abs(t - tr) / tr)
+    return angle, initiation
+
+
+def distance_to_polyline(points, line):
+    """Distance of each point to the polyline through `line` (consecutive tip positions)."""
+    if len(line) == 1:
+        return np.linalg.norm(points - line[0], axis=1)
+    a, b = line[:-1], line[1:]
+    ab = b - a
+    length2 = np.maximum(np.sum(ab * ab, axis=1), 1e-300)
+    best = np.full(len(points), np.inf)
+    for k in range(len(a)):
+        t = np.clip((points - a[k]) @ ab[k] / length2[k], 0.0, 1.0)
+        best = np.minimum(best, np.linalg.norm(points - (a[k] + t[:, None] * ab[k]), axis=1))
+    return best
+
+
+def path_distance(paths, ref_paths):
+    """Largest distance from a variant's tip positions to the reference tip path (the polyline
+    of its tip positions), over the tips both runs measure."""
+    worst = None
+    for name, points in paths.items():
+        ref = ref_paths.get(name)
+        if ref is None or len(points) == 0 or len(ref) == 0:
+            continue
+        worst = max(worst or 0.0, float(distance_to_polyline(points, ref).max()))
+    return worst
+
+
+def field_errors(frame, ref):
+    """Damage-field difference and L2 displacement error against the reference's nearest
+    particle (the reference is the finest run, so each particle finds a close partner)."""
+    if frame is None or ref is None or frame["volume"] is None:
+        return None, None
+    _, nearest = cKDTree(ref["x"]).query(frame["x"])
+    v = frame["volume"]
+    damage = None
+    if frame["damage"] is not None and ref["damage"] is not None:
+        ref_total = float(np.sum(ref["damage"] * ref["volume"])) if ref["volume"] is not None else 0
+        if ref_total > 0:
+            damage = float(np.sum(np.abs(frame["damage"] - ref["damage"][nearest]) * v)) / ref_total
+    du = frame["u"] - ref["u"][nearest]
+    norm_ref = math.sqrt(float(np.sum(np.sum(ref["u"][nearest] ** 2, axis=1) * v)))
+    l2 = math.sqrt(float(np.sum(np.sum(du**2, axis=1) * v))) / norm_ref if norm_ref > 0 else None
+    return damage, l2
+
+
+def pareto_front(rows, metric):
+    """Indices of the rows no other row beats in both wall time and `metric`."""
+    valid = [i for i, r in enumerate(rows) if r[metric] is not None]
+    front = []
+    for i in valid:
+        dominated = any(
+            rows[j]["wall_s"] <= rows[i]["wall_s"] and rows[j][metric] <= rows[i][metric]
+            and (rows[j]["wall_s"] < rows[i]["wall_s"] or rows[j][metric] < rows[i][metric])
+            for j in valid)
+        if not dominated:
+            front.append(i)
+    return front
+
+
+def cheapest_within(rows, budget):
+    """The fastest row whose every budgeted metric is known and within its limit."""
+    ok = [r for r in rows
+          if all(r[k] is not None and r[k] <= limit for k, limit in budget.items())]
+    return min(ok, key=lambda r: r["wall_s"]) if ok else None
+
+
+def plot_pareto(rows, metric, front, reference, path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    xs = [r["wall_s"] for r in rows if r[metric] is not None]
+    ys = [r[metric] for r in rows if r[metric] is not None]
+    ax.scatter(xs, ys, color="tab:blue", label="variants")
+    for r in rows:
+        if r[metric] is not None:
+            ax.annotate(r["label"], (r["wall_s"], r[metric]), fontsize=7,
+                        xytext=(3, 3), textcoords="offset points")
+    pts = sorted((rows[i]["wall_s"], rows[i][metric]) for i in front)
+    if pts:
+        ax.plot(*zip(*pts), color="tab:red", marker="o", label="Pareto front")
+    ax.axvline(reference["wall_s"], color="grey", linestyle="--",
+               label=f"reference ({reference['label']})")
+    ax.set_xscale("log")
+    ax.set_xlabel("wall time (s)")
+    ax.set_ylabel(metric.replace("_", " "))
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def measure_run(dhpd, label, case, overrides, out_dir, threads=None):
+    """Runs one variant and returns its row (errors filled in later)."""
+    summary, wall, peak = run_one(dhpd, case, overrides, out_dir, threads)
+    steps = summary.get("steps", 0)
+    particles = 0.5 * (summary.get("particles_start", 0) + summary.get("particles_end", 0))
+    row = {"label": label, "case": os.path.basename(case), "overrides": overrides,
+           "wall_s": wall, "particle_steps": particles * steps, "peak_mib": peak,
+           "particles_end": summary.get("particles_end"), "status": summary.get("status"),
+           "out": out_dir}
+    row.update({m: None for m in METRICS})
+    return row, summary
+
+
+def compare(row, summary, ref_row, ref_summary, ref_frame, ref_paths):
+    row["angle_deg"], row["initiation"] = crack_errors(summary, ref_summary)
+    row["tip_path"] = path_distance(tip_paths(row["out"]), ref_paths)
+    row["damage"], row["l2_displacement"] = field_errors(last_frame(row["out"]), ref_frame)
+
+
+def fmt(value, digits=4):
+    return "–" if value is None else (f"{value:.{digits}g}" if isinstance(value, float) else str(value))
+
+
+def write_outputs(study, rows, ref_row, out):
+    metric = study.get("error", "angle_deg")
+    columns = ["label", "case", "wall_s", "particle_steps", "peak_mib", "particles_end"] + METRICS
+    with open(os.path.join(out, "study.csv"), "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(columns + ["overrides"])
+        for r in [ref_row] + rows:
+            w.writerow([r[c] if r[c] is not None else "" for c in columns] + [json.dumps(r["overrides"])])
+    front = pareto_front(rows, metric)
+    plot_pareto(rows, metric, front, ref_row, os.path.join(out, "pareto.png"))
+    budget = study.get("budget", {})
+    best = cheapest_within(rows, budget)
+    lines = [f"# Study: {study.get('name', 'study')}", "",
+             f"Reference: **{ref_row['label']}** ({ref_row['case']}), "
+             f"{ref_row['wall_s']:.1f} s, {ref_row['particles_end']} particles.", "",
+             "| variant | wall (s) | vs reference | particle-steps | peak MiB | "
+             + " | ".join(METRICS) + " | Pareto |",
+             "|---" * (6 + len(METRICS)) + "|"]
+    for i, r in enumerate(rows):
+        speed = ref_row["wall_s"] / r["wall_s"] if r["wall_s"] > 0 else float("nan")
+        lines.append(f"| {r['label']} | {r['wall_s']:.2f} | {speed:.1f}× faster | "
+                     f"{r['particle_steps']:.3g} | {r['peak_mib']:.0f} | "
+                     + " | ".join(fmt(r[m]) for m in METRICS)
+                     + f" | {'yes' if i in front else ''} |")
+    lines += ["", f"Error plotted: `{metric}` (pareto.png).", ""]
+    if budget:
+        limits = ", ".join(f"{k} ≤ {v}" for k, v in budget.items())
+        lines.append(f"Cheapest within the budget ({limits}): "
+                     + (f"**{best['label']}**, {best['wall_s']:.2f} s "
+                        f"({ref_row['wall_s'] / best['wall_s']:.1f}× faster than the reference)."
+                        if best else "none of the variants."))
+    lines += ["", "![error against time](pareto.png)", ""]
+    with open(os.path.join(out, "study.md"), "w") as f:
+        f.write("\n".join(lines))
+    return best
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("study")
+    parser.add_argument("--dhpd", required=True, help="the dhpd executable")
+    parser.add_argument("--out", help="output folder (default: study-NAME)")
+    args = parser.parse_args()
+    if not os.path.isfile(args.study):
+        fail(f"cannot read study file '{args.study}'")
+    study = load_study(args.study)
+    here = os.path.dirname(os.path.abspath(args.study))
+    out = args.out or f"study-{study.get('name', 'study')}"
+    os.makedirs(out, exist_ok=True)
+    ref_entry = dict(study.get("reference", {}))
+    ref_entry.setdefault("label", "reference")
+    (ref_label, ref_case, ref_set), = expand(here, study["case"], ref_entry)
+    print(f"dhpd study: reference {ref_label}", flush=True)
+    threads = study.get("threads")
+    ref_row, ref_summary = measure_run(args.dhpd, ref_label, ref_case, ref_set,
+                                       os.path.join(out, "run-reference"), threads)
+    ref_frame, ref_paths = last_frame(ref_row["out"]), tip_paths(ref_row["out"])
+    rows = []
+    runs = [r for v in study["variants"] for r in expand(here, study["case"], v)]
+    for k, (label, case, overrides) in enumerate(runs):
+        print(f"dhpd study: [{k + 1}/{len(runs)}] {label}", flush=True)
+        row, summary = measure_run(args.dhpd, label, case, overrides,
+                                   os.path.join(out, f"run-{k:02d}"), threads)
+        compare(row, summary, ref_row, ref_summary, ref_frame, ref_paths)
+        rows.append(row)
+    best = write_outputs(study, rows, ref_row, out)
+    print(f"dhpd study: wrote {out}/study.csv, study.md, pareto.png"
+          + (f"; cheapest within budget: {best['label']} ({best['wall_s']:.2f} s)" if best else ""))
+
+
+if __name__ == "__main__":
+    main()
