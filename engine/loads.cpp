@@ -26,7 +26,9 @@ void apply_initial_condition(const InitialCondition& ic, ParticleStore& p) {
     double envelope = 1.0;
     if (ic.gaussian_width) {
       double r2 = 0.0;
-      for (int a = 0; a < p.dim(); ++a) r2 += std::pow(X[a][i] - ic.gaussian_center[a], 2);
+      for (int a = 0; a < p.dim(); ++a)
+        if (ic.gaussian_axis < 0 || a == ic.gaussian_axis)
+          r2 += std::pow(X[a][i] - ic.gaussian_center[a], 2);
       envelope = std::exp(-r2 / (*ic.gaussian_width * *ic.gaussian_width));
     }
     for (int a = 0; a < p.dim(); ++a) {

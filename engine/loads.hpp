@@ -21,6 +21,7 @@ struct InitialCondition {
   /// Optional envelope exp(−|X − center|² / width²) multiplying velocity and displacement.
   std::optional<double> gaussian_width;
   Vec3 gaussian_center{0, 0, 0};
+  int gaussian_axis = -1;  ///< ≥ 0: exp(−(X_a − center_a)² / width²), a plane pulse along axis a
 };
 
 struct BoundaryCondition {

@@ -170,6 +170,8 @@ void emit_initial_conditions(YAML::Emitter& out, const Scene& s) {
       out << YAML::Key << "gaussian" << YAML::Value << YAML::Flow << YAML::BeginMap;
       emit_optional_point(out, "center", ic.gaussian_center, dim);
       out << YAML::Key << "width" << YAML::Value << number_text(*ic.gaussian_width);
+      if (ic.gaussian_axis >= 0)
+        out << YAML::Key << "axis" << YAML::Value << std::string(1, "xyz"[ic.gaussian_axis]);
       out << YAML::EndMap;
     }
     out << YAML::EndMap;

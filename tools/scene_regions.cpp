@@ -61,9 +61,11 @@ InitialCondition read_initial_condition(const Cursor& c, int dim) {
   if (const auto g = map.get("gaussian")) {
     if (!ic.velocity && !ic.displacement)
       g->fail("the gaussian envelope shapes velocity and displacement: give one of them");
-    const MapView envelope(*g, {"center", "width"});
+    const MapView envelope(*g, {"center", "width", "axis"});
     ic.gaussian_center = envelope.require("center").point(dim);
     ic.gaussian_width = positive_number(envelope.require("width"));
+    if (const auto axis = envelope.get("axis"))
+      ic.gaussian_axis = static_cast<int>(axis->choice(axis_names(dim)));
   }
   return ic;
 }
