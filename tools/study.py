@@ -19,6 +19,8 @@ Study file (YAML):
     error: angle_deg                 # the error plotted against time (any metric below)
     budget: {angle_deg: 3.0, tip_path: 0.002}   # limits for the "cheapest within budget"
     threads: 2                       # optional: --threads for every run
+    frames: 2                        # frames per run (default 2: only the last is compared,
+                                     # so writing frames costs every variant the same little)
 A variant may name its own `case`, fixed `set` overrides and a `grid` of overrides whose
 cartesian product gives one run each. Metrics: angle_deg (largest |Δ angle| over the tips),
 initiation (largest |Δ t_init| / t_init,ref), tip_path (largest distance, m, from a variant's
@@ -73,7 +75,8 @@ def load_study(path):
     for key in ("case", "variants"):
         if key not in study:
             fail(f"{path}: missing key '{key}'")
-    unknown = set(study) - {"name", "case", "reference", "variants", "error", "budget", "threads"}
+    unknown = set(study) - {"name", "case", "reference", "variants", "error", "budget", "threads",
+                            "frames"}
     if unknown:
         fail(f"{path}: unknown key(s) {sorted(unknown)}")
     if study.get("error", "angle_deg") not in METRICS:
@@ -328,11 +331,17 @@ def main():
     (ref_label, ref_case, ref_set), = expand(here, study["case"], ref_entry)
     print(f"dhpd study: reference {ref_label}", flush=True)
     threads = study.get("threads")
+    frames = study.get("frames", 2)
+    if not isinstance(frames, int) or frames < 1:
+        fail(f"{args.study}: frames must be an integer >= 1, not {frames!r}")
+    ref_set = {"output.frames": frames, **ref_set}
+    runs = [(label, case, {"output.frames": frames, **overrides})
+            for label, case, overrides in
+            (r for v in study["variants"] for r in expand(here, study["case"], v))]
     ref_row, ref_summary = measure_run(args.dhpd, ref_label, ref_case, ref_set,
                                        os.path.join(out, "run-reference"), threads)
     ref_frame, ref_paths = last_frame(ref_row["out"]), tip_paths(ref_row["out"])
     rows = []
-    runs = [r for v in study["variants"] for r in expand(here, study["case"], v)]
     for k, (label, case, overrides) in enumerate(runs):
         print(f"dhpd study: [{k + 1}/{len(runs)}] {label}", flush=True)
         row, summary = measure_run(args.dhpd, label, case, overrides,
