@@ -36,10 +36,6 @@ bool crosses_any(const std::vector<geometry::Crack>& cracks, const geometry::Vec
   return false;
 }
 
-geometry::Vec3 point(const VectorArray& x, std::size_t i) {
-  return {x[0][i], x[1][i], x[2][i]};
-}
-
 }  // namespace
 
 BondRowBuilder::BondRowBuilder(const ParticleStore& p, PartialVolume rule,
@@ -67,7 +63,7 @@ void BondRowBuilder::keep_bonds(std::size_t i, std::vector<std::int32_t>& cand,
   const auto& X = p_.reference_position;
   const double delta = p_.horizon[i];
   std::size_t kept = 0;
-  const auto xi = point(X, i);
+  const auto xi = point_of(X, i);
   for (const auto j : cand) {
     double d2 = 0.0;
     for (int a = 0; a < p_.dim(); ++a) {
@@ -78,7 +74,7 @@ void BondRowBuilder::keep_bonds(std::size_t i, std::vector<std::int32_t>& cand,
     const double r_j = pv_ == PartialVolume::Exact ? p_.radius[j] : 0.5 * p_.spacing[j];
     const double beta = partial_volume_factor(pv_, p_.dim(), dist, delta, r_j);
     if (beta <= 0.0 || dist == 0.0) continue;
-    if (!cracks_.empty() && crosses_any(cracks_, xi, point(X, j), p_.dim())) continue;
+    if (!cracks_.empty() && crosses_any(cracks_, xi, point_of(X, j), p_.dim())) continue;
     cand[kept++] = j;
     if (len) len->push_back(dist), w->push_back(beta);
   }

@@ -9,6 +9,19 @@
 namespace dhpd {
 namespace {
 
+/// Calls f(i) for the particles in `rows`, serially (an event's few touched rows), or for all n
+/// particles in parallel when `rows` is null.
+template <class F>
+void each_row(std::size_t n, const std::vector<std::int32_t>* rows, F&& f) {
+  if (rows) {
+    for (const auto i : *rows) f(static_cast<std::int64_t>(i));
+    return;
+  }
+  const auto count = static_cast<std::int64_t>(n);
+#pragma omp parallel for schedule(static) if (count >= kParallelMinParticles)
+  for (std::int64_t i = 0; i < count; ++i) f(i);
+}
+
 /// Force density of row i (no allocation, one gather over the row).
 template <int Dim>
 inline void force_row(std::int64_t i, const double* const y[3], double* const f[3],
@@ -40,13 +53,8 @@ void force_rows(const InteractionList& il, ParticleStore& p,
   const auto* other = il.other.data();
   const auto* inv_len = il.inv_length.data();
   const auto* coef = il.coefficient.data();
-  if (subset) {
-    for (const auto i : *subset) force_row<Dim>(i, y, f, start, count, other, inv_len, coef);
-    return;
-  }
-  const auto n = static_cast<std::int64_t>(p.size());
-#pragma omp parallel for schedule(static) if (n >= kParallelMinParticles)
-  for (std::int64_t i = 0; i < n; ++i) force_row<Dim>(i, y, f, start, count, other, inv_len, coef);
+  each_row(p.size(), subset,
+           [&](std::int64_t i) { force_row<Dim>(i, y, f, start, count, other, inv_len, coef); });
 }
 
 template <int Dim>
@@ -160,13 +168,8 @@ double stable_step_of(const InteractionList& il, const ParticleStore& p, std::si
 
 void compute_damage(const BondList& bonds, ParticleStore& p,
                     const std::vector<std::int32_t>* rows) {
-  if (rows) {
-    for (const auto i : *rows) damage_of(bonds, p, static_cast<std::size_t>(i));
-    return;
-  }
-  const auto n = static_cast<std::int64_t>(p.size());
-#pragma omp parallel for schedule(static) if (n >= kParallelMinParticles)
-  for (std::int64_t i = 0; i < n; ++i) damage_of(bonds, p, static_cast<std::size_t>(i));
+  each_row(p.size(), rows,
+           [&](std::int64_t i) { damage_of(bonds, p, static_cast<std::size_t>(i)); });
 }
 
 void horizon_quadrature(const BondList& bonds, const ParticleStore& p, const Section& section,
@@ -183,21 +186,21 @@ void horizon_quadrature(const BondList& bonds, const ParticleStore& p, const Sec
 void particle_time_steps(const InteractionList& il, const ParticleStore& p,
                          std::vector<double>& out, const std::vector<std::int32_t>* rows) {
   out.resize(p.size(), std::numeric_limits<double>::infinity());
-  if (rows) {
-    for (const auto i : *rows) out[i] = stable_step_of(il, p, static_cast<std::size_t>(i));
-    return;
-  }
-  const auto n = static_cast<std::int64_t>(p.size());
-#pragma omp parallel for schedule(static) if (n >= kParallelMinParticles)
-  for (std::int64_t i = 0; i < n; ++i) out[i] = stable_step_of(il, p, static_cast<std::size_t>(i));
+  each_row(p.size(), rows, [&](std::int64_t i) {
+    out[static_cast<std::size_t>(i)] = stable_step_of(il, p, static_cast<std::size_t>(i));
+  });
 }
 
 double critical_time_step(const InteractionList& il, const ParticleStore& p) {
   std::vector<double> steps;
   particle_time_steps(il, p, steps);
-  double dt = std::numeric_limits<double>::infinity();
-  for (const double s : steps) dt = std::min(dt, s);
-  return dt;
+  return smallest(steps);
+}
+
+double smallest(const std::vector<double>& values) {
+  double least = std::numeric_limits<double>::infinity();
+  for (const double v : values) least = std::min(least, v);
+  return least;
 }
 
 double ordered_sum(const std::vector<double>& values) {

@@ -45,6 +45,9 @@ double critical_time_step(const InteractionList& il, const ParticleStore& p);
 void particle_time_steps(const InteractionList& il, const ParticleStore& p,
                          std::vector<double>& out, const std::vector<std::int32_t>* rows = nullptr);
 
+/// The smallest entry (infinity for none): the stable step from particle_time_steps.
+double smallest(const std::vector<double>& values);
+
 /// Deterministic sum (fixed order, independent of threads).
 double ordered_sum(const std::vector<double>& values);
 

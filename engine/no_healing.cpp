@@ -18,10 +18,9 @@ using geometry::operator*;
 Vec3 OldGeneration::position(std::int32_t x) const {
   if (parent_slot) {
     const auto k = (*parent_slot)[static_cast<std::size_t>(x)];
-    if (k >= 0) return (*parent_position)[static_cast<std::size_t>(k)];
+    if (k >= 0) return point_of(parents->reference_position, static_cast<std::size_t>(k));
   }
-  const auto& X = particles.reference_position;
-  return {X[0][x], X[1][x], X[2][x]};
+  return point_of(particles.reference_position, static_cast<std::size_t>(x));
 }
 
 bool segments_cross_properly(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {

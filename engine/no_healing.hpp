@@ -14,12 +14,12 @@ namespace dhpd {
 
 /// The previous generation as the rule sees it: its bond rows (indices = previous indices) and
 /// its reference positions. During an incremental event the store already holds the children in
-/// the parents' slots, so the parents' old positions come from `parent_position`, looked up by
-/// `parent_slot[x]` (−1 for particles that were not split).
+/// the parents' slots, so the parents' old positions come from `parents` (their snapshot), looked
+/// up by `parent_slot[x]` (−1 for particles that were not split).
 struct OldGeneration {
   const BondList& bonds;
   const ParticleStore& particles;
-  const std::vector<geometry::Vec3>* parent_position = nullptr;
+  const ParticleStore* parents = nullptr;
   const std::vector<std::int32_t>* parent_slot = nullptr;
 
   geometry::Vec3 position(std::int32_t x) const;

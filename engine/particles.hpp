@@ -7,6 +7,8 @@
 #include <variant>
 #include <vector>
 
+#include "geometry/vec.hpp"
+
 namespace dhpd {
 
 /// What a child gets from its parent at a split (used by refine/).
@@ -24,6 +26,11 @@ struct FieldInfo {
   SplitRule split;
   std::variant<ScalarArray*, VectorArray*, IndexArray*, FlagArray*> data;
 };
+
+/// Point i of a per-component array (e.g. a reference position) as a Vec3.
+inline geometry::Vec3 point_of(const VectorArray& x, std::size_t i) {
+  return {x[0][i], x[1][i], x[2][i]};
+}
 
 class ParticleStore {
  public:

@@ -34,12 +34,6 @@ bool ChildFilter::allows(const Vec3& parent, const Vec3& child) const {
   return true;
 }
 
-namespace {
-Vec3 point(const VectorArray& x, std::size_t i) {
-  return {x[0][i], x[1][i], x[2][i]};
-}
-}  // namespace
-
 SplitPlan plan_split(const ParticleStore& p, const std::vector<std::int32_t>& parents,
                      const ChildFilter& filter) {
   SplitPlan plan;
@@ -53,7 +47,7 @@ SplitPlan plan_split(const ParticleStore& p, const std::vector<std::int32_t>& pa
   }
   std::vector<std::size_t> appended;  // children that get a new slot
   for (const auto q : parents) {
-    const auto xq = point(p.reference_position, static_cast<std::size_t>(q));
+    const auto xq = point_of(p.reference_position, static_cast<std::size_t>(q));
     const std::size_t first = plan.child_position.size();
     for (const auto& off : child_offsets(p.dim(), p.spacing[static_cast<std::size_t>(q)]))
       if (filter.allows(xq, xq + off)) plan.child_position.push_back(xq + off);

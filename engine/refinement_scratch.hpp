@@ -12,8 +12,7 @@ namespace dhpd {
 
 struct Simulation::EventScratch {
   SplitPlan plan;
-  ParticleStore parents;                        ///< the parents' fields before the split
-  std::vector<geometry::Vec3> parent_position;  ///< their reference positions
+  ParticleStore parents;               ///< the parents' fields before the split
   std::vector<std::int32_t> near;      ///< previous-generation owners near the parents (rule b)
   std::vector<std::int32_t> owners;    ///< bond rows rebuilt, ascending
   std::vector<std::int32_t> dirty;     ///< interaction rows rewritten, ascending

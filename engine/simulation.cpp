@@ -20,8 +20,7 @@ Simulation::Simulation(const SimulationSetup& setup) : setup_(setup), p_(setup.s
     il_ = build_interactions(setup_.model, bonds_, dual_, p_, C_);
   }
   particle_time_steps(il_, p_, particle_dt_);
-  critical_dt_ = HUGE_VAL;
-  for (const double s : particle_dt_) critical_dt_ = std::min(critical_dt_, s);
+  critical_dt_ = smallest(particle_dt_);
   if (!std::isfinite(critical_dt_))
     throw InputError("no particle has a bond: the horizon factor or spacing is too small");
   dt_ = setup_.fixed_dt.value_or(setup_.safety * critical_dt_);

@@ -41,18 +41,14 @@ RefinementEvent Simulation::apply_refinement(const std::vector<std::int32_t>& pa
   parent_slot_.resize(plan.new_size, -1);
   child_of_slot_.resize(plan.new_size, -1);
   touched_.resize(plan.new_size, 0);
-  for (std::size_t k = 0; k < plan.parents.size(); ++k) {
-    const auto q = static_cast<std::size_t>(plan.parents[k]);
-    parent_slot_[q] = static_cast<std::int32_t>(k);
-    ev.parent_position.push_back(
-        {p_.reference_position[0][q], p_.reference_position[1][q], p_.reference_position[2][q]});
-    grid_->remove(plan.parents[k]);
-  }
+  for (std::size_t k = 0; k < plan.parents.size(); ++k)
+    parent_slot_[static_cast<std::size_t>(plan.parents[k])] = static_cast<std::int32_t>(k);
   write_children(p_, plan, ev.parents, state, setup_.section, next_id_);
   next_id_ += static_cast<std::int32_t>(plan.child_slot.size());
   for (std::size_t c = 0; c < plan.child_slot.size(); ++c) {
     const auto s = plan.child_slot[c];
     child_of_slot_[static_cast<std::size_t>(s)] = static_cast<std::int32_t>(c);
+    // A parent's slot holds its first child: inserting it replaces the parent in the grid.
     grid_->insert(s, plan.child_position[c], p_.spacing[static_cast<std::size_t>(s)]);
     p_.no_fail[static_cast<std::size_t>(s)] = 0;
     for (const auto& region : setup_.no_fail)
@@ -68,9 +64,8 @@ RefinementEvent Simulation::apply_refinement(const std::vector<std::int32_t>& pa
   rebuild_rows(ev, out);
   finish_event(ev, out);
   out.seconds = seconds_since(start);
-  const auto n = static_cast<double>(p_.size());
-  const bool crowded = setup_.resort_fraction > 0.0 &&
-                       static_cast<double>(appended_since_sort_) > setup_.resort_fraction * n;
+  const bool crowded = static_cast<double>(appended_since_sort_) >
+                       setup_.resort_fraction * static_cast<double>(p_.size());
   const bool wasteful = 2 * bonds_.rows.garbage > bonds_.rows.arena;
   if (setup_.resort_fraction > 0.0 && (crowded || wasteful)) {
     out.resorted = true;
@@ -86,8 +81,7 @@ void Simulation::finish_event(EventScratch& ev, RefinementEvent& out) {
   for (const auto i : ev.dirty)
     rebuild_interaction_row(il_, static_cast<std::size_t>(i), setup_.model, bonds_, dual_, p_, C_);
   particle_time_steps(il_, p_, particle_dt_, &ev.dirty);
-  critical_dt_ = HUGE_VAL;  // a scan of one double per particle: cheap next to the rebuild
-  for (const double s : particle_dt_) critical_dt_ = std::min(critical_dt_, s);
+  critical_dt_ = smallest(particle_dt_);  // one double per particle: cheap next to the rebuild
   // A fixed step stays while it is stable; otherwise the scene's safety applies to the new bound.
   const bool keep_fixed = setup_.fixed_dt && *setup_.fixed_dt <= critical_dt_;
   dt_ = keep_fixed ? *setup_.fixed_dt : setup_.safety * critical_dt_;
@@ -121,9 +115,7 @@ double Simulation::resort() {
   auto t = timers_.scope(Phase::Refine);
   const std::size_t n = p_.size();
   std::vector<geometry::Vec3> where(n);
-  for (std::size_t i = 0; i < n; ++i)
-    where[i] = {p_.reference_position[0][i], p_.reference_position[1][i],
-                p_.reference_position[2][i]};
+  for (std::size_t i = 0; i < n; ++i) where[i] = point_of(p_.reference_position, i);
   const auto order = geometry::morton_order(where, p_.dim());  // order[k]: old index of new k
   std::vector<std::int32_t> new_index(n);
   for (std::size_t k = 0; k < n; ++k) new_index[static_cast<std::size_t>(order[k])] = k;

@@ -11,10 +11,6 @@
 namespace dhpd {
 
 namespace {
-geometry::Vec3 point(const VectorArray& x, std::size_t i) {
-  return {x[0][i], x[1][i], x[2][i]};
-}
-
 void sort_unique(std::vector<std::int32_t>& v) {
   std::sort(v.begin(), v.end());
   v.erase(std::unique(v.begin(), v.end()), v.end());
@@ -27,7 +23,7 @@ void Simulation::ensure_grid() {
   for (std::size_t i = 0; i < p_.size(); ++i) base = std::max(base, p_.spacing[i]);
   grid_.emplace(p_.dim(), base, setup_.horizon_factor);
   for (std::size_t i = 0; i < p_.size(); ++i)
-    grid_->insert(static_cast<std::int32_t>(i), point(p_.reference_position, i), p_.spacing[i]);
+    grid_->insert(static_cast<std::int32_t>(i), point_of(p_.reference_position, i), p_.spacing[i]);
 }
 
 std::vector<std::int32_t> Simulation::old_neighbourhood(const SplitPlan& plan) const {
@@ -38,7 +34,7 @@ std::vector<std::int32_t> Simulation::old_neighbourhood(const SplitPlan& plan) c
   const double bond_reach = (max_horizon_ + reach_) * (1.0 + 1e-9);
   for (const auto q : plan.parents) {
     const auto u = static_cast<std::size_t>(q);
-    grid_->within(point(p_.reference_position, u), 2.0 * bond_reach + p_.spacing[u], found);
+    grid_->within(point_of(p_.reference_position, u), 2.0 * bond_reach + p_.spacing[u], found);
     near.insert(near.end(), found.begin(), found.end());
     near.push_back(q);
   }
@@ -83,7 +79,7 @@ struct NewRows {
 void Simulation::rebuild_rows(EventScratch& ev, RefinementEvent& out) {
   const auto& plan = ev.plan;
   const BondRowBuilder builder(p_, setup_.partial_volume, setup_.cracks, reach_);
-  const OldGeneration old{bonds_, p_, &ev.parent_position, &parent_slot_};
+  const OldGeneration old{bonds_, p_, &ev.parents, &parent_slot_};
   const OldSegments segments(old, ev.near);
   const bool rule = broken_ > 0;
   auto previous = [&](std::int32_t x) {
@@ -96,14 +92,14 @@ void Simulation::rebuild_rows(EventScratch& ev, RefinementEvent& out) {
   const auto& X = p_.reference_position;
   for (const auto i : ev.owners) {
     const auto u = static_cast<std::size_t>(i);
-    grid_->within(point(X, u), builder.search_radius(u), cand, i);
+    grid_->within(point_of(X, u), builder.search_radius(u), cand, i);
     builder.keep_bonds(u, cand, &rows.length, &rows.weight);
     for (const auto j : cand) {
       const auto v = static_cast<std::size_t>(j);
       const bool unsplit = child_of_slot_[u] < 0 && child_of_slot_[v] < 0;
       const bool cut =
-          rule && starts_broken(old, segments, point(X, u), point(X, v), previous(i), previous(j),
-                                unsplit, 0.5 * std::min(p_.spacing[u], p_.spacing[v]));
+          rule && starts_broken(old, segments, point_of(X, u), point_of(X, v), previous(i),
+                                previous(j), unsplit, 0.5 * std::min(p_.spacing[u], p_.spacing[v]));
       rows.neighbor.push_back(j);
       rows.intact.push_back(cut ? 0 : 1);
       out.started_broken += cut ? 1 : 0;

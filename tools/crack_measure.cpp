@@ -28,10 +28,6 @@ constexpr double kLinkFactor = 1.5;
 constexpr std::size_t kMaxClusters = 24;
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
-Vec3 reference(const ParticleStore& p, std::size_t i) {
-  return {p.reference_position[0][i], p.reference_position[1][i], p.reference_position[2][i]};
-}
-
 /// Union-find root with path halving.
 std::int32_t find_root(std::vector<std::int32_t>& root, std::int32_t n) {
   while (root[n] != n) n = root[n] = root[root[n]];
@@ -77,7 +73,7 @@ Branches separated_clusters(const std::vector<std::int32_t>& members,
   for (const auto n : members) {
     const auto i = static_cast<std::size_t>(g.particle[n]);
     auto& [sum, count] = sums[find_root(root, n)];
-    sum = sum + reference(p, i);
+    sum = sum + point_of(p.reference_position, i);
     ++count;
     horizon = std::max(horizon, p.horizon[i]);
   }
@@ -112,18 +108,18 @@ DamageGraph damage_graph(const ParticleStore& p, double threshold) {
   SpatialGrid grid(p.dim(), widest, kLinkFactor);
   for (std::size_t n = 0; n < g.size(); ++n) {
     const auto i = static_cast<std::size_t>(g.particle[n]);
-    grid.insert(static_cast<std::int32_t>(n), reference(p, i), p.spacing[i]);
+    grid.insert(static_cast<std::int32_t>(n), point_of(p.reference_position, i), p.spacing[i]);
   }
   // The grid keeps |ξ| < radius; the link rule keeps |ξ| ≤ 1.5 max(Δx): ask slightly wider.
   const double reach = kLinkFactor * widest * (1.0 + 1e-9);
   std::vector<std::int32_t> near;
   for (std::size_t n = 0; n < g.size(); ++n) {
     const auto i = static_cast<std::size_t>(g.particle[n]);
-    const Vec3 x = reference(p, i);
+    const Vec3 x = point_of(p.reference_position, i);
     grid.within(x, reach, near, static_cast<std::int32_t>(n));
     for (const auto m : near) {
       const auto j = static_cast<std::size_t>(g.particle[m]);
-      const double d = geometry::norm(reference(p, j) - x);
+      const double d = geometry::norm(point_of(p.reference_position, j) - x);
       if (d > kLinkFactor * std::max(p.spacing[i], p.spacing[j])) continue;
       g.neighbor.push_back(m);
       g.length.push_back(d);
@@ -140,7 +136,7 @@ CrackPath crack_path(const DamageGraph& g, const ParticleStore& p, const Vec3& n
   std::priority_queue<Item, std::vector<Item>, std::greater<>> queue;
   for (std::size_t n = 0; n < g.size(); ++n) {
     const auto i = static_cast<std::size_t>(g.particle[n]);
-    const double d = geometry::norm(reference(p, i) - notch_tip);
+    const double d = geometry::norm(point_of(p.reference_position, i) - notch_tip);
     if (d > p.horizon[i]) continue;
     c.path[n] = d;
     queue.emplace(d, static_cast<std::int32_t>(n));
@@ -207,7 +203,7 @@ double rayleigh_speed_near(const ParticleStore& p, const std::vector<Material>& 
   std::size_t nearest = 0;
   double best = kInfinity;
   for (std::size_t i = 0; i < p.size(); ++i) {
-    const double d = geometry::norm(reference(p, i) - at);
+    const double d = geometry::norm(point_of(p.reference_position, i) - at);
     if (d < best) best = d, nearest = i;
   }
   return rayleigh_speed(materials.at(static_cast<std::size_t>(p.material[nearest])), section);
@@ -231,7 +227,7 @@ TipRow CrackTracker::measure_tip(const DamageGraph& g, const ParticleStore& p, s
   double horizon = kInfinity;  // nothing cracked: never initiated
   if (crack.tip >= 0) {
     const auto i = static_cast<std::size_t>(g.particle[crack.tip]);
-    r.x = reference(p, i);
+    r.x = point_of(p.reference_position, i);
     r.path_length = crack.path[crack.tip];
     horizon = p.horizon[i];
   }
