@@ -91,21 +91,34 @@ std::int64_t break_rows(BondList& bonds, InteractionList& il, const ParticleStor
 }
 
 template <int Dim>
+double row_energy(const BondList& bonds, const ParticleStore& p, const std::vector<double>& C,
+                  std::size_t i) {
+  double w = 0.0;
+  for (auto b = bonds.begin(i); b < bonds.end(i); ++b) {
+    if (!bonds.intact[b]) continue;
+    const auto j = bonds.neighbor[b];
+    const double s = bond_stretch<Dim>(p, static_cast<std::int32_t>(i), j, bonds.length[b]);
+    w += s * s * bonds.length[b] * bonds.weight[b] * p.volume[j];
+  }
+  return 0.5 * C[i] * w;
+}
+
+template <int Dim>
 void energy_rows(const BondList& bonds, const ParticleStore& p, const std::vector<double>& C,
                  std::vector<double>& out) {
   const auto n = static_cast<std::int64_t>(p.size());
   out.assign(p.size(), 0.0);
 #pragma omp parallel for schedule(static) if (n >= kParallelMinParticles)
-  for (std::int64_t i = 0; i < n; ++i) {
-    double w = 0.0;
-    for (auto b = bonds.begin(i); b < bonds.end(i); ++b) {
-      if (!bonds.intact[b]) continue;
-      const auto j = bonds.neighbor[b];
-      const double s = bond_stretch<Dim>(p, static_cast<std::int32_t>(i), j, bonds.length[b]);
-      w += s * s * bonds.length[b] * bonds.weight[b] * p.volume[j];
-    }
-    out[i] = 0.5 * C[i] * w;
-  }
+  for (std::int64_t i = 0; i < n; ++i) out[i] = row_energy<Dim>(bonds, p, C, i);
+}
+
+template <int Dim>
+double energy_of(const BondList& bonds, const ParticleStore& p, const std::vector<double>& C,
+                 const std::vector<std::int32_t>& rows) {
+  double sum = 0.0;
+  for (const auto i : rows)
+    sum += p.volume[i] * row_energy<Dim>(bonds, p, C, static_cast<std::size_t>(i));
+  return sum;
 }
 
 }  // namespace
@@ -143,6 +156,18 @@ void strain_energy_density(const BondList& bonds, const ParticleStore& p,
       return energy_rows<2>(bonds, p, C, out);
     default:
       return energy_rows<3>(bonds, p, C, out);
+  }
+}
+
+double strain_energy_of_rows(const BondList& bonds, const ParticleStore& p,
+                             const std::vector<double>& C, const std::vector<std::int32_t>& rows) {
+  switch (p.dim()) {
+    case 1:
+      return energy_of<1>(bonds, p, C, rows);
+    case 2:
+      return energy_of<2>(bonds, p, C, rows);
+    default:
+      return energy_of<3>(bonds, p, C, rows);
   }
 }
 

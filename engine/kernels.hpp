@@ -30,6 +30,10 @@ void compute_damage(const BondList& bonds, ParticleStore& p,
 /// Strain-energy density of each particle from its own bonds: W_i = Σ_j ½ C_i β s² |ξ| V_j.
 void strain_energy_density(const BondList& bonds, const ParticleStore& p,
                            const std::vector<double>& micromodulus, std::vector<double>& out);
+/// Σ V_i W_i over the given rows, in their order (the strain energy those rows hold).
+double strain_energy_of_rows(const BondList& bonds, const ParticleStore& p,
+                             const std::vector<double>& micromodulus,
+                             const std::vector<std::int32_t>& rows);
 
 /// Quadrature diagnostic (V_i + Σ_{j∈H_i} β_ij V_j) / |ball(δ_i)| (dhpd.md §6), over all own
 /// bonds of the reference configuration (broken ones included; pre-cracked pairs have no bond).

@@ -13,6 +13,7 @@
 #include "engine/refinement_event.hpp"
 #include "engine/settings.hpp"
 #include "engine/spatial_grid.hpp"
+#include "engine/stability_guard.hpp"
 #include "engine/timers.hpp"
 #include "geometry/crack.hpp"
 #include "geometry/lattice.hpp"
@@ -46,6 +47,9 @@ struct SimulationSetup {
   /// this fraction of all (or garbage exceeds half the bond arena) the store is re-sorted in
   /// Morton order and every row array compacted. 0 never re-sorts.
   double resort_fraction = 0.2;
+  /// The instability guard stops a run whose kinetic + strain energy exceeds initial + external
+  /// work + refinement mapping by more than this fraction of their scale (EnergyBudget).
+  double energy_tolerance = 0.01;
 };
 
 /// What one refinement event did (Simulation::apply_refinement).
@@ -61,6 +65,8 @@ struct RefinementEvent {
   double seconds = 0.0;             ///< the event itself (split and incremental rebuild)
   bool resorted = false;            ///< the store was re-sorted and compacted after the event
   double resort_seconds = 0.0;      ///< cost of that re-sort (not in `seconds`)
+  double energy_change = 0.0;       ///< kinetic + strain energy the state mapping added (J)
+  double shadow_change = 0.0;       ///< the same for the shadow energy (new dt and forces too)
   /// Per child: its slot and its parent's slot before the event (slots as after the event,
   /// before any re-sort). The test of incremental = from scratch uses them.
   std::vector<std::int32_t> child_slot, parent_slot;
@@ -71,6 +77,9 @@ struct Energies {
   double strain = 0.0;
   double external_work = 0.0;
   Vec3 momentum{0, 0, 0};
+  /// (dt²/8) Σ V |f|²/ρ over free components: the plain kinetic energy minus velocity Verlet's
+  /// shadow one, ½ m v_{n−½}·v_{n+½}, which (with the strain energy) a stable linear run conserves.
+  double verlet_correction = 0.0;
 };
 
 class Simulation {
@@ -84,8 +93,10 @@ class Simulation {
 
   /// Energies and momentum of the current state (deterministic sums).
   Energies energies();
-  /// Throws InstabilityError when the state holds a NaN/Inf or the energy has blown up.
+  /// Throws InstabilityError when the state holds a NaN/Inf or kinetic + strain energy is above
+  /// the energy budget (step() checks the kinetic energy alone every step).
   void check_stable(const Energies& e) const;
+  const EnergyBudget& energy_budget() const { return budget_; }
   /// Recomputes p.damage (only meaningful with fracture on).
   void update_damage();
 
@@ -139,7 +150,12 @@ class Simulation {
   void finish_event(EventScratch& ev, RefinementEvent& out);
   void enforce_prescribed_velocity();
   double boundary_power() const;
-  bool state_is_finite() const;
+  /// Throws InstabilityError; a NaN `energy` reports a non-finite state.
+  [[noreturn]] void stop_unstable(const char* measured, double energy, double allowed,
+                                  std::int64_t step, double time) const;
+  std::vector<std::int32_t> event_energy_rows(const SplitPlan& plan) const;
+  /// Energies::verlet_correction of the current state (a pass over particles, not bonds).
+  double verlet_correction() const;
 
   SimulationSetup setup_;
   ParticleStore p_;
@@ -157,7 +173,11 @@ class Simulation {
   std::vector<std::uint8_t> touched_;                      ///< event scratch, 0 outside events
   PhaseTimers timers_;
   double time_ = 0.0, dt_ = 0.0, critical_dt_ = 0.0;
-  double external_work_ = 0.0, initial_energy_ = 0.0, last_power_ = 0.0;
+  double external_work_ = 0.0, last_power_ = 0.0;
+  EnergyBudget budget_;
+  bool conservative_ = true;            ///< the model conserves energy (not classical-variable)
+  double blowup_factor_ = 2.0;          ///< plain energy above this × the balance is a blow-up
+  std::vector<double> kinetic_blocks_;  ///< guard scratch
   std::int64_t steps_ = 0, broken_ = 0, interaction_updates_ = 0;
   std::int64_t generation_ = 0;
   std::int32_t next_id_ = 0;

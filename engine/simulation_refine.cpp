@@ -35,6 +35,12 @@ RefinementEvent Simulation::apply_refinement(const std::vector<std::int32_t>& pa
   ev.plan = plan_split(p_, parents, ChildFilter{setup_.body, setup_.cracks, p_.dim()});
   const auto& plan = ev.plan;
   if (plan.parents.empty()) return out;
+  // The mapping's energy change, for the instability guard's balance: only rows near the parents
+  // change (unchanged rows give the same bits before and after, and cancel).
+  auto energy_rows = event_energy_rows(plan);
+  const double before =
+      strain_energy_of_rows(bonds_, p_, C_, energy_rows) + kinetic_energy_of(p_, plan.parents);
+  const double correction_before = verlet_correction();
   ev.parents = snapshot(p_, plan.parents);
   const auto state = map_state(plan, mapping, p_, bonds_);
   ev.near = old_neighbourhood(plan);
@@ -63,6 +69,13 @@ RefinementEvent Simulation::apply_refinement(const std::vector<std::int32_t>& pa
   ev.owners = owners_to_rebuild(plan);
   rebuild_rows(ev, out);
   finish_event(ev, out);
+  for (const auto c : plan.child_slot)  // appended children: rows that did not exist before
+    if (static_cast<std::size_t>(c) >= plan.old_size) energy_rows.push_back(c);
+  out.energy_change = strain_energy_of_rows(bonds_, p_, C_, energy_rows) +
+                      kinetic_energy_of(p_, plan.child_slot) - before;
+  // The shadow energy also moves with the new forces and the new dt (a pass over particles only).
+  out.shadow_change = out.energy_change - (verlet_correction() - correction_before);
+  budget_.mapping += out.shadow_change;
   out.seconds = seconds_since(start);
   const bool crowded = static_cast<double>(appended_since_sort_) >
                        setup_.resort_fraction * static_cast<double>(p_.size());

@@ -42,6 +42,21 @@ std::vector<std::int32_t> Simulation::old_neighbourhood(const SplitPlan& plan) c
   return near;
 }
 
+std::vector<std::int32_t> Simulation::event_energy_rows(const SplitPlan& plan) const {
+  // Rows whose energy an event can change: the parents' and their neighbours' (owners of bonds on
+  // a parent lie within a horizon of it), and those reaching a child (within a cell of its parent).
+  std::vector<std::int32_t> rows, found;
+  const double widest = (max_horizon_ + reach_) * (1.0 + 1e-9);
+  for (const auto q : plan.parents) {
+    const auto u = static_cast<std::size_t>(q);
+    grid_->within(point_of(p_.reference_position, u), widest + 2.0 * p_.spacing[u], found);
+    rows.insert(rows.end(), found.begin(), found.end());
+    rows.push_back(q);
+  }
+  sort_unique(rows);
+  return rows;
+}
+
 std::vector<std::int32_t> Simulation::owners_to_rebuild(const SplitPlan& plan) const {
   std::vector<std::int32_t> owners(plan.child_slot), found;
   for (const auto q : plan.parents)  // owners of bonds on the parents (their dual rows)

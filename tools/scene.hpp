@@ -87,7 +87,9 @@ struct TimeSpec {
   std::optional<std::int64_t> steps;
   double safety = 0.8;
   std::optional<double> dt;
-  Location where;  ///< of the `time` map (dt checks refer to time.dt)
+  bool check_dt = true;            ///< refuse a fixed dt above the stable step
+  double energy_tolerance = 0.01;  ///< the instability guard's energy bound (EnergyBudget)
+  Location where;                  ///< of the `time` map (dt checks refer to time.dt)
 };
 
 struct OutputSpec {

@@ -13,6 +13,7 @@
 #include "engine/errors.hpp"
 #include "engine/kernels.hpp"
 #include "geometry/mesh_points.hpp"
+#include "geometry/point_checks.hpp"
 #include "geometry/points_file.hpp"
 
 namespace dhpd::scene {
@@ -80,6 +81,29 @@ geometry::PointSet body_points(const Scene& s) {
   return out;
 }
 
+std::string point_text(const geometry::Vec3& x, int dim) {
+  return fmt::format("[{}]", fmt::join(x.begin(), x.begin() + dim, ", "));
+}
+
+/// Points that would make the run unstable are refused at load time, naming their part.
+void check_points(const Scene& s, const geometry::PointSet& pts) {
+  const int dim = s.dimension;
+  if (const auto i = geometry::first_degenerate_point(pts))
+    fail(s.body[static_cast<std::size_t>(pts.part[*i])].where,
+         fmt::format("the particle at {} has cell measure {} and spacing {}: a particle needs a "
+                     "positive volume and spacing",
+                     point_text(pts.position[*i], dim), pts.cell_measure[*i], pts.spacing[*i]),
+         "cell measure > 0 and spacing > 0 for every particle");
+  if (const auto pair = geometry::first_coincident_pair(pts, dim)) {
+    const auto [i, j] = *pair;
+    const auto& where = s.body[static_cast<std::size_t>(pts.part[j])].where;
+    fail(where,
+         fmt::format("two particles coincide at {} (part {} and part {}): a bond needs a length",
+                     point_text(pts.position[j], dim), pts.part[i] + 1, pts.part[j] + 1),
+         "particles at distinct positions (closer than 1e-6 of their spacing counts as one place)");
+  }
+}
+
 }  // namespace
 
 SimulationSetup build_setup(const Scene& s) {
@@ -93,6 +117,7 @@ SimulationSetup build_setup(const Scene& s) {
   setup.horizon_factor = s.horizon_factor;
   for (const auto& m : s.materials) setup.materials.push_back(m.law);
   setup.points = body_points(s);
+  check_points(s, setup.points);
   for (std::size_t p = 0; p < s.body.size(); ++p)
     if (std::find(setup.points.part.begin(), setup.points.part.end(), static_cast<int>(p)) ==
         setup.points.part.end())
@@ -133,14 +158,11 @@ SimulationSetup build_setup(const Scene& s) {
     setup.body = shapes.size() == 1 ? shapes.front() : geometry::Shape::union_of(shapes);
   setup.safety = s.time.safety;
   setup.fixed_dt = s.time.dt;
+  setup.energy_tolerance = s.time.energy_tolerance;
   return setup;
 }
 
 namespace {
-
-std::string point_text(const geometry::Vec3& x, int dim) {
-  return fmt::format("[{}]", fmt::join(x.begin(), x.begin() + dim, ", "));
-}
 
 /// Every measured notch tip lies inside the body's bounding box (the particles' cells).
 void check_tips(const Scene& s, const ParticleStore& p) {
@@ -165,16 +187,48 @@ void check_tips(const Scene& s, const ParticleStore& p) {
              fmt::format("{} to {}", point_text(lo, dim), point_text(hi, dim)));
 }
 
+bool has_neighbour_within_horizon(const ParticleStore& p, std::size_t i) {
+  for (std::size_t j = 0; j < p.size(); ++j) {
+    if (j == i) continue;
+    double d2 = 0.0;
+    for (int a = 0; a < p.dim(); ++a) {
+      const double d = p.reference_position[a][j] - p.reference_position[a][i];
+      d2 += d * d;
+    }
+    if (d2 < p.horizon[i] * p.horizon[i]) return true;
+  }
+  return false;
+}
+
+/// A particle without a neighbour in its horizon has no stiffness: refused, naming its part. (One
+/// whose neighbours all lie across pre-cracks is a free fragment from the start: allowed.)
+void check_lonely(const Scene& s, const Simulation& sim) {
+  const auto& p = sim.particles();
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (sim.bonds().rows.count[i] > 0 || has_neighbour_within_horizon(p, i)) continue;
+    const auto part = sim.setup().points.part[static_cast<std::size_t>(p.id[i])];
+    fail(s.body[static_cast<std::size_t>(part)].where,
+         fmt::format("the particle at {} has no neighbour inside its horizon {:.6g} m (spacing "
+                     "{:.6g} m, horizon factor {})",
+                     point_text(point_of(p.reference_position, i), s.dimension), p.horizon[i],
+                     p.spacing[i], s.horizon_factor),
+         "every particle with at least one neighbour closer than its horizon: a larger "
+         "horizon factor, a finer spacing nearby, or remove the isolated point");
+  }
+}
+
 }  // namespace
 
 std::unique_ptr<Simulation> build_simulation(const Scene& s) {
   auto sim = std::make_unique<Simulation>(build_setup(s));
   check_tips(s, sim->particles());
-  if (!sim->dt_is_stable())
+  check_lonely(s, *sim);
+  if (s.time.check_dt && !sim->dt_is_stable())
     fail({s.time.where.file, s.time.where.line, "time.dt"},
          fmt::format("{:.6g} s is above the stable time step {:.6g} s", sim->dt(),
                      sim->critical_dt()),
-         fmt::format("0 < dt <= {:.6g}", sim->critical_dt()));
+         fmt::format("0 < dt <= {:.6g} (time.check_dt: false runs it anyway, to test the guard)",
+                     sim->critical_dt()));
   return sim;
 }
 

@@ -208,6 +208,8 @@ void emit_time(YAML::Emitter& out, const TimeSpec& time) {
   if (time.steps) out << YAML::Key << "steps" << YAML::Value << *time.steps;
   out << YAML::Key << "safety" << YAML::Value << number_text(time.safety);
   if (time.dt) out << YAML::Key << "dt" << YAML::Value << number_text(*time.dt);
+  out << YAML::Key << "check_dt" << YAML::Value << time.check_dt;
+  out << YAML::Key << "energy_tolerance" << YAML::Value << number_text(time.energy_tolerance);
   out << YAML::EndMap;
 }
 

@@ -141,7 +141,7 @@ void read_discretisation(const MapView& top, Scene& s) {
 }
 
 TimeSpec read_time(const Cursor& c) {
-  const MapView map(c, {"end", "steps", "safety", "dt"});
+  const MapView map(c, {"end", "steps", "safety", "dt", "check_dt", "energy_tolerance"});
   TimeSpec time;
   time.where = c.where();
   if (map.has("end") == map.has("steps")) {
@@ -153,6 +153,14 @@ TimeSpec read_time(const Cursor& c) {
   if (const auto steps = map.get("steps")) time.steps = detail::positive_integer(*steps);
   if (const auto safety = map.get("safety")) time.safety = detail::safety_factor(*safety);
   if (const auto dt = map.get("dt")) time.dt = detail::positive_number(*dt);
+  if (const auto check = map.get("check_dt")) time.check_dt = check->boolean();
+  if (const auto tol = map.get("energy_tolerance")) {
+    time.energy_tolerance = detail::positive_number(*tol);
+    if (time.energy_tolerance > 1.0)
+      tol->fail(
+          fmt::format("energy_tolerance is a fraction of the energy scale, got {}", tol->text()),
+          "0 < energy_tolerance <= 1 (default 0.01)");
+  }
   return time;
 }
 
