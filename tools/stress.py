@@ -37,6 +37,7 @@ import stress_check  # noqa: E402  (beside this script)
 SUITE_KEYS = {"name", "criteria", "cases"}
 CASE_KEYS = {"name", "scene", "set", "sweep", "criteria", "reason", "expect"}
 CRITERIA_KEYS = {"energy_tolerance", "momentum_tolerance", "momentum_axes"}
+RUN_TIMEOUT_S = 1800  # one run of a case; a hang fails the case instead of the whole suite
 ORDER = ["status", "finite", "energy", "momentum", "volume", "reproducible", "hardness"]
 
 
@@ -174,8 +175,11 @@ def run_case(dhpd, scene, overrides, out_dir, threads):
     start = time.monotonic()
     env = dict(os.environ)
     env.setdefault("OMP_WAIT_POLICY", "passive")  # no spinning against the other run's jobs
-    proc = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
-                          env=env)
+    try:
+        proc = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
+                              env=env, timeout=RUN_TIMEOUT_S)
+    except subprocess.TimeoutExpired:
+        return -1, f"stopped after {RUN_TIMEOUT_S} s (a hang?)", time.monotonic() - start
     return proc.returncode, proc.stderr.strip(), time.monotonic() - start
 
 
