@@ -42,10 +42,10 @@ class CliStress : public CliTest {
     return dhpd(args);
   }
 
-  /// Rewrites every frame of `run` (same names, same order) with the last one changed by
-  /// `change` (applied to its fields), keeping the .pvd.
+  /// Rewrites every frame of `run` (same names, same order) with frame `which` (counted from
+  /// the last: 0 is the last frame) changed by `change` (applied to its fields), keeping the .pvd.
   template <class Change>
-  void doctor_last_frame(const fs::path& run, Change change) {
+  void doctor_last_frame(const fs::path& run, Change change, std::size_t which = 0) {
     std::vector<fs::path> frames;
     for (const auto& e : fs::directory_iterator(run))
       if (e.path().extension() == ".vtu") frames.push_back(e.path());
@@ -56,7 +56,7 @@ class CliStress : public CliTest {
     dhpd::io::FrameSeries series(scratch.string(), "horizon_ratio_1d");
     for (std::size_t k = 0; k < frames.size(); ++k) {
       auto frame = dhpd::io::read_frame(frames[k].string());
-      if (k + 1 == frames.size()) change(frame.fields);
+      if (k + 1 + which == frames.size()) change(frame.fields);
       std::vector<dhpd::io::PointField> fields;
       for (const auto& [name, field] : frame.fields) {
         dhpd::io::PointField f{name, field.first, field.second};
@@ -218,6 +218,13 @@ TEST_F(CliStress, NaNInTheHistoryOrTheLastFrameFailsFiniteness) {
   const auto frame = check({b});
   EXPECT_EQ(frame.code, 1);
   EXPECT_NE(frame.out.find("finite: 1 FAIL"), std::string::npos) << frame.out;
+  // Every frame is scanned, not only the last: a NaN damage in the fourth frame from the end.
+  const fs::path c = run_bar("c", 1);
+  doctor_last_frame(
+      c, [](auto& fields) { fields.at("damage").second.at(3) = NAN; }, 3);
+  const auto earlier = check({c});
+  EXPECT_EQ(earlier.code, 1);
+  EXPECT_NE(earlier.out.find("finite: 1 FAIL"), std::string::npos) << earlier.out;
 }
 
 TEST_F(CliStress, ZeroVolumeInAFrameFailsTheVolumeCriterion) {

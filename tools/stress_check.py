@@ -6,7 +6,8 @@ optionally, with 2 threads (dir_b) and returns one measured value and a verdict 
 
 - status:    summary.json "status" is "completed".
 - finite:    every number of history.csv (and of cracks.csv / refinement.csv when present) and
-             every component of every point array of the last frame is finite.
+             every component of every point array of every written frame is finite (cracks.csv
+             angle_deg is nan by design while a crack has not left its notch: skipped there).
 - energy:    max over history rows of (K + S - (E0 + W)) / scale, with K, S the kinetic and strain
              energy, W the external work of that row, E0 = K + S of the first row, and
              scale = max over rows of (E0 + |W|). Passes when <= energy_tolerance (0.01).
@@ -118,29 +119,28 @@ def energy_excess(h):
     return float(np.max(energy_balance(h)))
 
 
-def momentum_scale(out_dir, frames):
-    """max over frames of sum m |v|."""
+def scan_frames(out_dir, frames):
+    """One pass over every frame: non-finite numbers, max sum m|v|, smallest volume, last frame."""
     rho = material_densities(out_dir)
-    scale = 0.0
+    scan = {"nonfinite": 0, "momentum_scale": 0.0, "min_volume": math.inf, "last": None}
     for frame in frames:
         f = read_frame(os.path.join(out_dir, frame))
+        scan["nonfinite"] += sum(int(np.sum(~np.isfinite(a))) for a in f.values())
         speed = np.linalg.norm(np.atleast_2d(f["velocity"].T).T, axis=1)
         mass = rho[f["material"].astype(int)] * f["volume"]
-        scale = max(scale, float(np.sum(mass * speed)))
-    return scale
+        scan["momentum_scale"] = max(scan["momentum_scale"], float(np.sum(mass * speed)))
+        scan["min_volume"] = min(scan["min_volume"], float(np.min(f["volume"])))
+        scan["last"] = f
+    return scan
 
 
-def momentum_drift(h, out_dir, frames, axes):
+def momentum_drift(h, scale, axes):
+    """max over rows and axes of |P_a - P_a(0)| / scale."""
     drift = 0.0
     for axis in axes:
         p = h[f"momentum_{axis}"]
         drift = max(drift, float(np.max(np.abs(p - p[0]))))
-    scale = momentum_scale(out_dir, frames)
     return drift / scale if scale > 0 else (0.0 if drift == 0 else math.inf)
-
-
-def smallest_volume(out_dir, frames):
-    return min(float(np.min(read_frame(os.path.join(out_dir, f))["volume"])) for f in frames)
 
 
 def hardness_facts(summary, last, h):
@@ -211,18 +211,19 @@ def check_run(dir_a, dir_b=None, criteria=None, expect=None):
     if not frames:
         return {"status": verdict(summary.get("status"), False, f"{dir_a}: no frame")}
     h = history_columns(dir_a)
-    last = read_frame(os.path.join(dir_a, frames[-1]))
-    bad = all_finite_csv(dir_a) + sum(int(np.sum(~np.isfinite(a))) for a in last.values())
+    scan = scan_frames(dir_a, frames)
+    last = scan["last"]
+    bad = all_finite_csv(dir_a) + scan["nonfinite"]
     result = {"status": verdict(summary.get("status"), summary.get("status") == "completed",
                                 summary.get("message", ""))}
-    result["finite"] = verdict(bad, bad == 0, "non-finite numbers in history or last frame")
+    result["finite"] = verdict(bad, bad == 0, "non-finite numbers in the CSV files or frames")
     energy = energy_excess(h) if bad == 0 else math.inf
     result["energy"] = verdict(energy, energy <= c["energy_tolerance"])
-    drift = momentum_drift(h, dir_a, frames, c["momentum_axes"]) if bad == 0 else math.inf
+    drift = (momentum_drift(h, scan["momentum_scale"], c["momentum_axes"]) if bad == 0
+             else math.inf)
     result["momentum"] = verdict(drift, drift <= c["momentum_tolerance"],
                                  "axes " + "".join(c["momentum_axes"]))
-    volume = smallest_volume(dir_a, frames)
-    result["volume"] = verdict(volume, volume > 0)
+    result["volume"] = verdict(scan["min_volume"], scan["min_volume"] > 0)
     if dir_b is not None:
         difference = reproducibility(dir_a, dir_b)
         result["reproducible"] = verdict("identical" if not difference else "differs",
