@@ -1,5 +1,6 @@
-// The dhpd command line: run, check, bench, plot, report, study. The only place errors become exit
-// codes: 0 success, 1 internal error, 2 bad input (scene or command line), 3 unstable run.
+// The dhpd command line: run, check, bench, plot, report, study, stress. The only place errors
+// become exit codes: 0 success, 1 internal error, 2 bad input (scene or command line), 3 unstable
+// run.
 #include <fmt/core.h>
 #include <omp.h>
 #include <CLI/CLI.hpp>
@@ -83,6 +84,16 @@ int main(int argc, char** argv) {
   study->add_option("study", study_opt.study_file, "study file (YAML, see tools/study.py)")
       ->required();
   study->add_option("-o,--out", study_opt.directory, "output folder (default study-NAME)");
+  dhpd::StressOptions stress_opt;
+  auto* stress = app.add_subcommand(
+      "stress",
+      "stability suite: run each case with 1 and 2 threads, check NaN/Inf, energy, "
+      "momentum, volumes, reproducibility; write stress.csv/.md (exit 1 if any fails)");
+  stress->add_option("suite", stress_opt.suite_file,
+                     "suite file (YAML, see tools/stress.py; default cases/stress/suite.yaml)");
+  stress->add_option("-o,--out", stress_opt.directory, "output folder (default stress-NAME)");
+  stress->add_option("--check", stress_opt.check_directories,
+                     "check the outputs of existing runs instead: DIR1 [DIR2 of the 2-thread run]");
 
   try {
     app.parse(argc, argv);
@@ -97,6 +108,9 @@ int main(int argc, char** argv) {
   try {
     if (*study)
       return dhpd::run_study_script(dhpd::find_tool_script(DHPD_SOURCE_DIR, "study.py"), study_opt);
+    if (*stress)
+      return dhpd::run_stress_script(dhpd::find_tool_script(DHPD_SOURCE_DIR, "stress.py"),
+                                     stress_opt);
     if (*plot || *report_cmd) {
       dhpd::check_run_directory(plot_opt.directory);
       return dhpd::run_plot_script(dhpd::find_plot_script(DHPD_SOURCE_DIR),

@@ -77,9 +77,10 @@ std::string find_plot_script(const std::string& source_dir) {
 
 namespace {
 
-/// Runs /usr/bin/python3 with `args` (args[0] = "python3"); 0 or 2 from the script are returned,
-/// anything else throws.
-int run_python(const std::vector<std::string>& args, const std::string& command) {
+/// Runs /usr/bin/python3 with `args` (args[0] = "python3"); 0 or 2 from the script are returned
+/// (and 1 when `one_means_failed`: a script that reports failed checks), anything else throws.
+int run_python(const std::vector<std::string>& args, const std::string& command,
+               bool one_means_failed = false) {
   if (access(kPython, X_OK) != 0)
     throw InputError(fmt::format(
         "{} is missing; dhpd {} needs Debian's Python 3 with matplotlib, numpy, scipy, yaml and "
@@ -99,7 +100,8 @@ int run_python(const std::vector<std::string>& args, const std::string& command)
     if (errno != EINTR)
       throw std::runtime_error(fmt::format("waiting for {}: {}", script, std::strerror(errno)));
   }
-  if (WIFEXITED(status) && (WEXITSTATUS(status) == 0 || WEXITSTATUS(status) == 2))
+  if (WIFEXITED(status) && (WEXITSTATUS(status) == 0 || WEXITSTATUS(status) == 2 ||
+                            (one_means_failed && WEXITSTATUS(status) == 1)))
     return WEXITSTATUS(status);
   throw std::runtime_error(
       WIFEXITED(status)
@@ -114,16 +116,48 @@ int run_plot_script(const std::string& script, const std::string& command,
   return run_python(script_arguments(script, command, options), command);
 }
 
+namespace {
+
+std::string this_executable() {
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (ec) throw std::runtime_error("cannot find the dhpd executable (/proc/self/exe)");
+  return exe.string();
+}
+
+}  // namespace
+
 int run_study_script(const std::string& script, const StudyOptions& options) {
   if (!fs::is_regular_file(options.study_file))
     throw InputError(fmt::format("{}: no such study file (a YAML file: see tools/study.py)",
                                  options.study_file));
-  std::error_code ec;
-  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  if (ec) throw std::runtime_error("cannot find the dhpd executable (/proc/self/exe)");
-  std::vector<std::string> args{"python3", script, options.study_file, "--dhpd", exe.string()};
+  std::vector<std::string> args{"python3", script, options.study_file, "--dhpd", this_executable()};
   if (!options.directory.empty()) args.insert(args.end(), {"--out", options.directory});
   return run_python(args, "study");
+}
+
+int run_stress_script(const std::string& script, const StressOptions& options) {
+  std::vector<std::string> args{"python3", script, "--dhpd", this_executable()};
+  if (!options.check_directories.empty()) {
+    if (options.check_directories.size() > 2)
+      throw InputError("--check takes one or two run directories (1-thread run, 2-thread run)");
+    for (const std::string& d : options.check_directories) {
+      if (!fs::is_directory(d))
+        throw InputError(
+            fmt::format("--check {}: no such directory (a run's output directory)", d));
+    }
+    args.emplace_back("--check");
+    args.insert(args.end(), options.check_directories.begin(), options.check_directories.end());
+    return run_python(args, "stress", true);
+  }
+  if (!options.suite_file.empty()) {
+    if (!fs::is_regular_file(options.suite_file))
+      throw InputError(fmt::format("{}: no such suite file (a YAML file: see tools/stress.py)",
+                                   options.suite_file));
+    args.push_back(options.suite_file);
+  }
+  if (!options.directory.empty()) args.insert(args.end(), {"--out", options.directory});
+  return run_python(args, "stress", true);
 }
 
 }  // namespace dhpd

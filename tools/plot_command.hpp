@@ -1,7 +1,7 @@
-// `dhpd plot`, `dhpd report` and `dhpd study`: check their input, find the Python script in
-// tools/ (plot_run.py, study.py) and run it with Debian's /usr/bin/python3 (matplotlib, numpy,
-// scipy, yaml and VTK 9 from python3-matplotlib, python3-numpy, python3-scipy, python3-yaml,
-// python3-vtk9).
+// `dhpd plot`, `dhpd report`, `dhpd study` and `dhpd stress`: check their input, find the Python
+// script in tools/ (plot_run.py, study.py, stress.py) and run it with Debian's /usr/bin/python3
+// (matplotlib, numpy, scipy, yaml and VTK 9 from python3-matplotlib, python3-numpy, python3-scipy,
+// python3-yaml, python3-vtk9).
 #pragma once
 #include <string>
 #include <vector>
@@ -32,6 +32,18 @@ struct StudyOptions {
 /// Runs `/usr/bin/python3 SCRIPT STUDY --dhpd THIS_EXECUTABLE [--out DIR]` (tools/study.py) with
 /// the exit-code conventions of run_plot_script. Throws InputError when the study file is missing.
 int run_study_script(const std::string& script, const StudyOptions& options);
+
+struct StressOptions {
+  std::string suite_file;                      ///< empty: cases/stress/suite.yaml
+  std::string directory;                       ///< output folder; empty: stress-NAME
+  std::vector<std::string> check_directories;  ///< --check: outputs to check instead of running
+};
+
+/// Runs `/usr/bin/python3 SCRIPT --dhpd THIS_EXECUTABLE [SUITE] [--out DIR]` or, with
+/// check_directories, `... --check DIR1 [DIR2]` (tools/stress.py) and returns 0 (every criterion
+/// passes), 1 (some fail) or 2 (bad input). Throws InputError for a missing suite file or
+/// directory, or more than two directories to check.
+int run_stress_script(const std::string& script, const StressOptions& options);
 
 /// Runs `/usr/bin/python3 SCRIPT COMMAND DIR [--times T,...] [--field F]` (COMMAND: plot or
 /// report) and returns dhpd's exit code: 0 done, 2 when the script reports bad input or a missing
