@@ -218,6 +218,12 @@ void FrameSeries::write(double time, std::int64_t step, const std::vector<double
   write_pvd();
 }
 
+void FrameSeries::resume(std::vector<std::pair<double, std::string>> entries) {
+  ensure_directory(directory_);
+  entries_ = std::move(entries);
+  write_pvd();
+}
+
 void FrameSeries::write_pvd() const {
   std::string text =
       "<?xml version=\"1.0\"?>\n"
