@@ -99,6 +99,17 @@ TEST_F(CheckpointCli, DamagedMissingOrForeignCheckpointsAreRefusedBeforeAnything
   refused("short", "history.csv is shorter");
 }
 
+TEST_F(CheckpointCli, AnUnfinishedPvdIsNotTakenForAWholeOne) {
+  const auto dir = run_plate("a", {});
+  const auto text = read_text(dir / "plate.pvd");
+  EXPECT_EQ(dhpd::io::read_pvd((dir / "plate.pvd").string()).size(), 4u);
+  const auto cut = dir_ / "cut.pvd";
+  for (std::size_t n = 0; n + 2 < text.size(); n += 7) {  // every prefix short of the last tag
+    write("cut.pvd", text.substr(0, n));
+    EXPECT_THROW(dhpd::io::read_pvd(cut.string()), std::runtime_error) << n << " bytes";
+  }
+}
+
 /// Starts the adaptive run, waits until history.csv has `rows` rows, sends `signal`.
 int interrupt_after(const fs::path& dir, const std::string& out, std::size_t rows, int signal) {
   const pid_t pid = spawn_dhpd(dir, {"run", "adaptive.yaml", "-o", out, "-q"});
