@@ -48,13 +48,18 @@ int main(int argc, char** argv) {
   run->add_option("-t,--threads", threads, "OpenMP threads (default: all cores)")
       ->check(CLI::Range(1, 1024));
   run->add_flag("-q,--quiet", quiet, "no log lines or progress");
-  run->add_option("--restart", restart_dir,
-                  "continue from DIR/checkpoint.bin (or a checkpoint file) of a run of the same "
-                  "scene and --set overrides; the results equal an uninterrupted run's");
+  run->add_option(
+         "--restart", restart_dir,
+         "continue the run whose outputs are in DIR from DIR/checkpoint.bin (or from a checkpoint "
+         "file); "
+         "give the same scene and --set overrides as the first run")
+      ->option_text("DIR");
   run->footer(
-      "Checkpoints: DIR/checkpoint.bin at the end of a run and every output.checkpoint_every "
-      "steps; SIGINT/SIGTERM write one, a final frame and summary.json (status interrupted), "
-      "then exit 130/143.");
+      "Checkpoints: OUT/checkpoint.bin at the end of a run and every output.checkpoint_every "
+      "steps (the one before stays as checkpoint.prev.bin). SIGINT/SIGTERM finish the step, "
+      "write a checkpoint, a final frame and summary.json (status interrupted), then exit 130 / "
+      "143. A restarted run's results equal an uninterrupted run's, bit for bit.\n"
+      "Example: dhpd run plate.yaml -o out --restart out");
 
   auto* check = app.add_subcommand("check", "validate a scene and print its derived quantities");
   check->add_option("scene", scene_file, "scene file (YAML)")->required();

@@ -23,7 +23,9 @@ InterruptSignals::InterruptSignals() : saved_(std::make_unique<Saved>()) {
   struct sigaction action = {};
   action.sa_handler = remember_signal;
   sigemptyset(&action.sa_mask);
-  action.sa_flags = SA_RESTART;  // writes in progress complete; the loop checks between steps
+  // Writes in progress complete (the loop checks between steps); a second signal takes the
+  // default action at once (every file being written is still a temporary one).
+  action.sa_flags = SA_RESTART | SA_RESETHAND;
   sigaction(SIGINT, &action, &saved_->interrupt);
   sigaction(SIGTERM, &action, &saved_->terminate);
 }

@@ -1,5 +1,6 @@
 // SIGINT and SIGTERM during a run: the handler only sets a flag; the run loop finishes its step,
 // writes a checkpoint, a final frame and summary.json, then exits 130 (SIGINT) or 143 (SIGTERM).
+// A second signal stops the process at once.
 #pragma once
 #include <memory>
 
