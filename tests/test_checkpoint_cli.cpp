@@ -44,6 +44,16 @@ TEST_F(CheckpointCli, EveryRunEndsWithACheckpointAndKeepsThePreviousOne) {
   EXPECT_NE(bad.err.find("-3"), std::string::npos) << bad.err;
 }
 
+TEST_F(CheckpointCli, RunOfPlannedStepsRestartsFromItsStep30Checkpoint) {
+  const auto ref = run_plate("ref", {});
+  run_plate("early", {}, {"output.checkpoint_every=30"});  // checkpoint.prev.bin: step 30 of 60
+  fs::rename(dir_ / "early" / "checkpoint.prev.bin", dir_ / "early" / "checkpoint.bin");
+  const auto o = dhpd({"run", "plate.yaml", "-o", "new", "-q", "--restart", "early"});
+  ASSERT_EQ(o.code, 0) << o.err;
+  expect_same_outputs(ref, dir_ / "new", "plate");
+  EXPECT_EQ(read_history(dir_ / "new" / "history.csv").rows.size(), 7u);  // steps 0, 10, ..., 60
+}
+
 TEST_F(CheckpointCli, RestartFromAMidRunCheckpointEqualsTheUninterruptedRun) {
   const auto ref = reference();
   const auto history = read_history(ref / "history.csv");
