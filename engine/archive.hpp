@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <functional>
 #include <optional>
 #include <span>
 #include <string>
@@ -39,6 +40,8 @@ struct IsPair<std::pair<A, B>> : std::true_type {};
 class Writer {
  public:
   explicit Writer(bool counting = false) : counting_(counting) {}
+  /// A writer that hands every piece to `sink` instead of keeping it.
+  explicit Writer(std::function<void(std::span<const std::byte>)> sink) : sink_(std::move(sink)) {}
   template <class T>
   void operator()(const T& v) {
     if constexpr (std::is_same_v<T, std::string>) {
@@ -75,13 +78,20 @@ class Writer {
  private:
   void size(std::size_t n) { (*this)(static_cast<std::uint64_t>(n)); }
   void raw(const void* p, std::size_t n) {
+    if (n == 0) return;
     if (counting_) {
       counted_ += n;
       return;
     }
-    const auto* b = static_cast<const std::byte*>(p);
-    bytes_.insert(bytes_.end(), b, b + n);
+    if (sink_) {
+      sink_(std::span(static_cast<const std::byte*>(p), n));
+      return;
+    }
+    const std::size_t at = bytes_.size();
+    bytes_.resize(at + n);
+    std::memcpy(bytes_.data() + at, p, n);
   }
+  std::function<void(std::span<const std::byte>)> sink_;
   bool counting_ = false;
   std::size_t counted_ = 0;
   std::vector<std::byte> bytes_;

@@ -1,17 +1,11 @@
 // Simulation snapshots and the checkpoint file (see checkpoint.hpp).
 #include "engine/checkpoint.hpp"
 
-#include <fcntl.h>
 #include <fmt/core.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <array>
-#include <cerrno>
 #include <cstring>
-#include <filesystem>
-#include <fstream>
-#include <system_error>
 
 #include "engine/archive.hpp"
 
@@ -137,8 +131,23 @@ struct CheckpointAccess {
     }
   }
 
-  /// Sizes and indices agree with each other, so no later access leaves the arrays.
-  static void check_consistent(const Simulation& s, const archive::Reader& ar) {
+  template <class V>
+  static bool in_range(const V& v, std::int64_t lo, std::int64_t hi) {
+    return std::all_of(v.begin(), v.end(), [&](auto x) { return x >= lo && x < hi; });
+  }
+
+  /// Row i of every one of n rows lies inside an arena of `slots` entries.
+  static bool rows_fit(const RowIndex& r, std::size_t n, std::size_t slots) {
+    if (r.rows() != n || r.count.size() != n || r.capacity.size() != n) return false;
+    if (r.arena < 0 || static_cast<std::size_t>(r.arena) != slots) return false;
+    for (std::size_t i = 0; i < n; ++i)
+      if (r.start[i] < 0 || r.count[i] < 0 || r.count[i] > r.capacity[i] ||
+          r.start[i] + r.capacity[i] > r.arena)
+        return false;
+    return true;
+  }
+
+  static bool particles_fit(const Simulation& s) {
     const std::size_t n = s.p_.size();
     for (auto& f : const_cast<ParticleStore&>(s.p_).fields()) {
       const bool sized = std::visit(
@@ -149,36 +158,37 @@ struct CheckpointAccess {
               return data->size() == n;
           },
           f.data);
-      if (!sized) ar.fail(fmt::format("particle field '{}' has the wrong length", f.name));
+      if (!sized) return false;
     }
-    const auto rows_fit = [n](const RowIndex& r, std::size_t slots) {
-      if (r.rows() != n || r.count.size() != n || r.capacity.size() != n) return false;
-      if (r.arena < 0 || static_cast<std::size_t>(r.arena) != slots) return false;
-      for (std::size_t i = 0; i < n; ++i)
-        if (r.start[i] < 0 || r.count[i] < 0 || r.count[i] > r.capacity[i] ||
-            r.start[i] + r.capacity[i] > r.arena)
-          return false;
-      return true;
-    };
+    const auto materials = static_cast<std::int64_t>(s.setup_.materials.size());
+    return in_range(s.p_.material, 0, materials) && s.C_.size() == n && s.s0_.size() == n &&
+           s.particle_dt_.size() == n && in_range(s.parent_slot_, -1, 0) &&
+           in_range(s.child_of_slot_, -1, 0) && in_range(s.touched_, 0, 1);
+  }
+
+  /// Sizes and indices agree with each other, so no later access leaves the arrays.
+  static void check_consistent(const Simulation& s, const archive::Reader& ar) {
+    if (!particles_fit(s)) ar.fail("its particle arrays do not fit together");
+    const auto n = static_cast<std::int64_t>(s.p_.size());
     const auto& b = s.bonds_;
     const std::size_t slots = b.neighbor.size();
-    const auto in_range = [](const auto& v, std::int64_t lo, std::int64_t hi) {
-      return std::all_of(v.begin(), v.end(), [&](auto x) { return x >= lo && x < hi; });
-    };
-    const auto nn = static_cast<std::int64_t>(n);
-    const bool ok =
-        rows_fit(b.rows, slots) && b.owner.size() == slots && b.length.size() == slots &&
-        b.weight.size() == slots && b.intact.size() == slots && in_range(b.owner, -1, nn) &&
-        in_range(b.neighbor, -1, nn) && rows_fit(s.dual_.rows, s.dual_.bond.size()) &&
-        in_range(s.dual_.bond, -1, static_cast<std::int64_t>(slots)) &&
-        rows_fit(s.il_.rows, s.il_.other.size()) && s.il_.inv_length.size() == s.il_.other.size() &&
-        s.il_.coefficient.size() == s.il_.other.size() && in_range(s.il_.other, -1, nn) &&
-        s.il_.own_slot.size() == slots && s.il_.dual_slot.size() == slots &&
-        in_range(s.loads_.prescribed, 0, nn) && in_range(s.loads_.loaded, 0, nn) &&
-        s.loads_.mask.size() == s.loads_.prescribed.size() &&
-        s.loads_.prescribed_velocity.size() == s.loads_.prescribed.size() &&
-        s.loads_.body_force.size() == s.loads_.loaded.size() && s.C_.size() == n &&
-        s.s0_.size() == n && s.particle_dt_.size() == n;
+    const auto entries = static_cast<std::int64_t>(s.il_.other.size());
+    const auto& l = s.loads_;
+    const bool ok = rows_fit(b.rows, s.p_.size(), slots) && b.owner.size() == slots &&
+                    b.length.size() == slots && b.weight.size() == slots &&
+                    b.intact.size() == slots && in_range(b.owner, -1, n) &&
+                    in_range(b.neighbor, -1, n) &&
+                    rows_fit(s.dual_.rows, s.p_.size(), s.dual_.bond.size()) &&
+                    in_range(s.dual_.bond, -1, static_cast<std::int64_t>(slots)) &&
+                    rows_fit(s.il_.rows, s.p_.size(), s.il_.other.size()) &&
+                    s.il_.inv_length.size() == s.il_.other.size() &&
+                    s.il_.coefficient.size() == s.il_.other.size() &&
+                    in_range(s.il_.other, -1, n) && s.il_.own_slot.size() == slots &&
+                    s.il_.dual_slot.size() == slots && in_range(s.il_.own_slot, -1, entries) &&
+                    in_range(s.il_.dual_slot, -1, entries) && in_range(l.prescribed, 0, n) &&
+                    in_range(l.loaded, 0, n) && l.mask.size() == l.prescribed.size() &&
+                    l.prescribed_velocity.size() == l.prescribed.size() &&
+                    l.body_force.size() == l.loaded.size();
     if (!ok) ar.fail("its bond, dual, interaction or load arrays do not fit together");
   }
 };
@@ -262,11 +272,45 @@ std::vector<std::byte> encode_checkpoint(const CheckpointParts& parts) {
   return bytes;
 }
 
-void write_checkpoint_file(const std::string& path, const CheckpointParts& parts,
+void write_checkpoint_file(const std::string& path, const std::string& scene_text,
+                           const Simulation& sim, std::span<const std::byte> run_state,
                            const std::string& previous) {
-  const auto pieces = checkpoint_pieces(parts);
-  const auto all = pieces.all();
-  write_file_atomically(path, all, previous);
+  archive::Writer count(true);
+  CheckpointAccess::save(sim, count);
+  AtomicFile file(path);
+  archive::Writer head;
+  head(kMagic), head(kCheckpointVersion), head(kByteOrderMark);
+  head(std::uint64_t{0}), head(std::uint64_t{0});  // payload length and checksum, set below
+  file.write(head.bytes());
+  // The payload goes through a buffer to the file, summed on the way.
+  std::vector<std::byte> buffer;
+  buffer.reserve(std::size_t{1} << 20);
+  archive::Checksum sum;
+  std::uint64_t length = 0;
+  const auto flush = [&] {
+    file.write(buffer);
+    buffer.clear();
+  };
+  archive::Writer payload([&](std::span<const std::byte> bytes) {
+    sum.add(bytes);
+    length += bytes.size();
+    if (buffer.size() + bytes.size() > buffer.capacity()) flush();
+    if (bytes.size() >= buffer.capacity())
+      file.write(bytes);
+    else
+      buffer.insert(buffer.end(), bytes.begin(), bytes.end());
+  });
+  payload(scene_text), payload(setup_fingerprint(sim.setup()));
+  payload(static_cast<std::uint64_t>(count.size()));
+  CheckpointAccess::save(sim, payload);
+  payload.section(run_state);
+  flush();
+  const std::uint64_t value = sum.value();
+  std::array<std::byte, 16> tail;
+  std::memcpy(tail.data(), &length, 8);
+  std::memcpy(tail.data() + 8, &value, 8);
+  file.write_at(16, tail);
+  file.commit(previous);
 }
 
 CheckpointParts decode_checkpoint(std::span<const std::byte> bytes, const std::string& source) {
@@ -295,63 +339,6 @@ CheckpointParts decode_checkpoint(std::span<const std::byte> bytes, const std::s
   parts.run_state = r.section();
   if (r.remaining() != 0) r.fail("bytes left after the last section");
   return parts;
-}
-
-namespace {
-
-[[noreturn]] void refuse_io(const std::string& what, const std::string& path) {
-  throw std::runtime_error(fmt::format("cannot {} '{}': {}", what, path, std::strerror(errno)));
-}
-
-void sync_directory_of(const std::filesystem::path& path) {
-  const auto dir = path.has_parent_path() ? path.parent_path() : std::filesystem::path(".");
-  const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY);
-  if (fd < 0) return;  // best effort: the rename itself is already atomic
-  ::fsync(fd);
-  ::close(fd);
-}
-
-}  // namespace
-
-void write_file_atomically(const std::string& path,
-                           std::span<const std::span<const std::byte>> pieces,
-                           const std::string& previous) {
-  namespace fs = std::filesystem;
-  const std::string tmp = path + ".tmp";
-  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd < 0) refuse_io("create", tmp);
-  for (const auto bytes : pieces)
-    for (std::size_t done = 0; done < bytes.size();) {
-      const auto n = ::write(fd, bytes.data() + done, bytes.size() - done);
-      if (n < 0 && errno == EINTR) continue;
-      if (n <= 0) {
-        ::close(fd);
-        refuse_io("write", tmp);
-      }
-      done += static_cast<std::size_t>(n);
-    }
-  if (::fsync(fd) != 0 || ::close(fd) != 0) refuse_io("flush", tmp);
-  std::error_code ec;
-  if (!previous.empty() && fs::exists(path, ec)) {
-    // The previous file gets a second name before the new one takes its place, so at every
-    // moment `path` names a complete checkpoint.
-    fs::remove(previous, ec);
-    fs::create_hard_link(path, previous, ec);
-    if (ec) fs::copy_file(path, previous, fs::copy_options::overwrite_existing, ec);
-  }
-  if (::rename(tmp.c_str(), path.c_str()) != 0) refuse_io("rename onto", path);
-  sync_directory_of(path);
-}
-
-std::vector<std::byte> read_whole_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary | std::ios::ate);
-  if (!in) throw InputError(fmt::format("{}: cannot open the checkpoint", path));
-  const auto size = static_cast<std::size_t>(in.tellg());
-  std::vector<std::byte> bytes(size);
-  in.seekg(0);
-  in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(size));
-  if (!in) throw InputError(fmt::format("{}: cannot read the checkpoint", path));
-  return bytes;
 }
 
 }  // namespace dhpd

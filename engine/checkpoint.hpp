@@ -40,20 +40,53 @@ struct CheckpointParts {
 
 /// Header, checksum and parts as one buffer (an in-memory checkpoint).
 std::vector<std::byte> encode_checkpoint(const CheckpointParts& parts);
-/// The same bytes written to `path` without copying the parts, as write_file_atomically does.
-void write_checkpoint_file(const std::string& path, const CheckpointParts& parts,
-                           const std::string& previous = {});
 /// Checks magic, version, byte order, length and checksum; the spans point into `bytes`. Throws
 /// InputError naming `source` and what is wrong.
 CheckpointParts decode_checkpoint(std::span<const std::byte> bytes, const std::string& source);
 
-/// Writes the pieces, one after the other, to `path` through `path.tmp` (fsync, rename, fsync of
-/// the folder). With `previous` non-empty the old file stays there (a hard link) until the new one
-/// is complete.
-void write_file_atomically(const std::string& path,
-                           std::span<const std::span<const std::byte>> pieces,
+/// The checkpoint of `sim` streamed to `path` through an AtomicFile, without a serialised copy
+/// in memory: the bytes of encode_checkpoint({scene_text, setup_fingerprint(sim.setup()),
+/// save_simulation(sim), run_state}).
+void write_checkpoint_file(const std::string& path, const std::string& scene_text,
+                           const Simulation& sim, std::span<const std::byte> run_state,
                            const std::string& previous = {});
-/// The whole file; throws InputError when it cannot be read.
-std::vector<std::byte> read_whole_file(const std::string& path);
+
+/// A file written as `path.tmp` and renamed onto `path` by commit() (after fsync; the folder is
+/// synced too). With `previous` non-empty, commit() first gives the old `path` that second name
+/// (a hard link), so at every moment `path` names a complete file. Without commit() the
+/// temporary file is removed.
+class AtomicFile {
+ public:
+  explicit AtomicFile(std::string path);
+  ~AtomicFile();
+  AtomicFile(const AtomicFile&) = delete;
+  AtomicFile& operator=(const AtomicFile&) = delete;
+  void write(std::span<const std::byte> bytes);
+  void write_at(std::size_t offset, std::span<const std::byte> bytes);
+  void commit(const std::string& previous = {});
+
+ private:
+  std::string path_, tmp_;
+  int fd_ = -1;
+};
+
+/// Writes `bytes` to `path` through an AtomicFile.
+void write_file_atomically(const std::string& path, std::span<const std::byte> bytes,
+                           const std::string& previous = {});
+
+/// A whole file mapped read-only (a checkpoint is checked and read without a copy); throws
+/// InputError when it cannot be opened.
+class MappedFile {
+ public:
+  explicit MappedFile(const std::string& path);
+  ~MappedFile();
+  MappedFile(const MappedFile&) = delete;
+  MappedFile& operator=(const MappedFile&) = delete;
+  std::span<const std::byte> bytes() const { return {data_, size_}; }
+
+ private:
+  const std::byte* data_ = nullptr;
+  std::size_t size_ = 0;
+};
 
 }  // namespace dhpd

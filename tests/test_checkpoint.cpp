@@ -3,7 +3,10 @@
 // re-sort on both sides of the snapshot, 3D); damaged snapshots are refused.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <cstring>
+#include <filesystem>
 
 #include "engine/checkpoint.hpp"
 #include "engine/errors.hpp"
@@ -59,8 +62,8 @@ SimulationSetup pulled_block_3d() {
 }
 
 /// A simulation with an optional damage-triggered refiner, stepped like the run loop does.
-struct Run {
-  explicit Run(const SimulationSetup& setup, bool adaptive = false) : sim(setup) {
+struct Stepper {
+  explicit Stepper(const SimulationSetup& setup, bool adaptive = false) : sim(setup) {
     if (!adaptive) return;
     refine::Settings set;
     set.trigger.damage = 0.02;
@@ -163,13 +166,13 @@ struct Events {
 /// from the same setup, M more steps on both: the same state as an uninterrupted run.
 Events expect_restart_exact(const SimulationSetup& setup, bool adaptive, std::int64_t n,
                             std::int64_t m) {
-  Run whole(setup, adaptive);
+  Stepper whole(setup, adaptive);
   whole.advance(n + m);
-  Run first(setup, adaptive);
+  Stepper first(setup, adaptive);
   first.advance(n);
   const auto snapshot = save_simulation(first.sim);
   const auto file = encode_checkpoint({"scene", setup_fingerprint(setup), snapshot, {}});
-  Run second(setup, adaptive);  // a fresh object: its own from-scratch build
+  Stepper second(setup, adaptive);  // a fresh object: its own from-scratch build
   const auto parts = decode_checkpoint(file, "test");
   load_simulation(parts.simulation, second.sim, "test");
   second.advance(m);
@@ -235,6 +238,27 @@ TEST(Checkpoint, DamagedFilesAreRefused) {
   Simulation fresh(pulled_plate());
   for (std::size_t cut = 0; cut < snapshot.size(); cut += 1 + snapshot.size() / 97)
     EXPECT_THROW(load_simulation(std::span(snapshot).first(cut), fresh, "ck.bin"), InputError);
+}
+
+TEST(Checkpoint, StreamedFileHoldsTheBytesOfTheInMemoryCheckpoint) {
+  auto setup = pulled_plate();
+  Stepper run(setup, true);
+  run.advance(40);
+  ASSERT_GT(run.events, 0);
+  const std::vector<std::byte> state{std::byte{1}, std::byte{2}, std::byte{3}};
+  const auto path = (std::filesystem::temp_directory_path() /
+                     ("dhpd_checkpoint_" + std::to_string(::getpid()) + ".bin"))
+                        .string();
+  write_checkpoint_file(path, "scene", run.sim, state);
+  const auto snapshot = save_simulation(run.sim);
+  const auto expected = encode_checkpoint({"scene", setup_fingerprint(setup), snapshot, state});
+  {
+    const MappedFile file(path);
+    const auto bytes = file.bytes();
+    EXPECT_TRUE(std::equal(bytes.begin(), bytes.end(), expected.begin(), expected.end()));
+    EXPECT_FALSE(std::filesystem::exists(path + ".tmp"));
+  }
+  std::filesystem::remove(path);
 }
 
 TEST(Checkpoint, FingerprintFollowsTheParticles) {

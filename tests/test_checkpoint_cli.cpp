@@ -38,6 +38,10 @@ TEST_F(CheckpointCli, EveryRunEndsWithACheckpointAndKeepsThePreviousOne) {
   EXPECT_TRUE(fs::exists(every / "checkpoint.prev.bin"));  // the one of step 50
   const auto none = run_plate("c", {}, {"output.checkpoint_every=0"});
   EXPECT_FALSE(fs::exists(none / "checkpoint.bin"));
+  // A new run in a folder removes the checkpoints of the run whose outputs it replaces.
+  run_plate("b", {}, {"output.checkpoint_every=0"});
+  EXPECT_FALSE(fs::exists(every / "checkpoint.bin"));
+  EXPECT_FALSE(fs::exists(every / "checkpoint.prev.bin"));
   const auto bad = dhpd({"run", "plate.yaml", "-o", "d"}, {"output.checkpoint_every=-3"});
   EXPECT_EQ(bad.code, 2);
   EXPECT_NE(bad.err.find("output.checkpoint_every"), std::string::npos) << bad.err;

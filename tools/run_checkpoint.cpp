@@ -86,10 +86,9 @@ std::size_t write_checkpoint(const std::string& path, const Simulation& sim, con
   run_fields(state, run);
   run(static_cast<std::uint8_t>(state.cracks != nullptr));
   if (state.cracks) measure::CrackTracker::archive_state(std::as_const(*state.cracks), run);
-  const auto simulation = save_simulation(sim);
-  CheckpointParts parts{scene_text, setup_fingerprint(sim.setup()), simulation, run.bytes()};
   const fs::path where(path);
-  write_checkpoint_file(path, parts, (where.parent_path() / "checkpoint.prev.bin").string());
+  write_checkpoint_file(path, scene_text, sim, run.bytes(),
+                        (where.parent_path() / "checkpoint.prev.bin").string());
   std::error_code ec;
   return static_cast<std::size_t>(fs::file_size(path, ec));
 }
@@ -102,8 +101,8 @@ void load_checkpoint(const std::string& path, Simulation& sim, RunState& state,
         fmt::format("--restart: no checkpoint '{}' (a run writes one at its end, "
                     "and every output.checkpoint_every steps)",
                     path));
-  const auto bytes = read_whole_file(path);
-  const auto parts = decode_checkpoint(bytes, path);
+  const MappedFile file(path);
+  const auto parts = decode_checkpoint(file.bytes(), path);
   if (parts.scene_text != scene_text)
     throw InputError(fmt::format(
         "{}: the checkpoint was written for another scene or other --set overrides: {} (restart "

@@ -221,6 +221,20 @@ fs::path resume_run(const scene::Scene& s, const RunOptions& opt, Simulation& si
   return from;
 }
 
+/// Creates `dir`; restarting, continues the first run's outputs there; otherwise removes the
+/// checkpoints of an older run whose outputs this one replaces.
+void prepare_folder(const scene::Scene& s, const fs::path& dir, const std::optional<fs::path>& from,
+                    const RunState& state) {
+  fs::create_directories(dir);
+  if (from) {
+    continue_outputs(*from, dir, state, csv_lengths(s, state));
+    return;
+  }
+  std::error_code ec;
+  fs::remove(dir / "checkpoint.bin", ec);
+  fs::remove(dir / "checkpoint.prev.bin", ec);
+}
+
 /// Opens (or, restarting, continues) the outputs in `dir`.
 RunContext open_outputs(const scene::Scene& s, Simulation& sim, const fs::path& dir,
                         RunState& state, bool resumed) {
@@ -256,8 +270,7 @@ void run_scene(const scene::Scene& s, const RunOptions& opt) {
   else
     start_run(s, *sim, hook.get(), state);
   const fs::path dir = opt.output_directory.value_or(s.output.directory);
-  fs::create_directories(dir);
-  if (from) continue_outputs(*from, dir, state, csv_lengths(s, state));
+  prepare_folder(s, dir, from, state);
   auto ctx = open_outputs(s, *sim, dir, state, from.has_value());
   if (opt.echo) run::log_start(s, *sim, state.planned_steps, dir);
   if (hook) {
