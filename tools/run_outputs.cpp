@@ -177,8 +177,8 @@ void write_summary(const std::string& path, const Summary& s) {
   write_text_atomically(path, j.dump(2) + "\n");
 }
 
-Progress::Progress(std::int64_t total_steps, bool enabled)
-    : total_(total_steps), enabled_(enabled) {}
+Progress::Progress(std::int64_t total_steps, bool enabled, std::int64_t first_step)
+    : total_(total_steps), enabled_(enabled), first_(first_step) {}
 
 void Progress::update(std::int64_t step, double time, std::int64_t broken_bonds,
                       double elapsed_seconds) {
@@ -187,9 +187,9 @@ void Progress::update(std::int64_t step, double time, std::int64_t broken_bonds,
   if (last_print_ >= 0.0 && elapsed_seconds - last_print_ < 0.25 && !last) return;
   last_print_ = elapsed_seconds;
   std::string eta = "--";
-  if (step > 0 && total_ > step) {
+  if (step > first_ && total_ > step) {
     const double remaining =
-        elapsed_seconds / static_cast<double>(step) * static_cast<double>(total_ - step);
+        elapsed_seconds / static_cast<double>(step - first_) * static_cast<double>(total_ - step);
     eta = fmt::format("{:.0f}", remaining);
   } else if (last) {
     eta = "0";

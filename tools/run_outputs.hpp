@@ -102,7 +102,8 @@ void write_text_atomically(const std::string& path, const std::string& text);
 /// terminal or the CI environment variable is set.
 class Progress {
  public:
-  Progress(std::int64_t total_steps, bool enabled);
+  /// `first_step`: the steps done before this process (a restart); the ETA uses only the rest.
+  Progress(std::int64_t total_steps, bool enabled, std::int64_t first_step = 0);
   void update(std::int64_t step, double time, std::int64_t broken_bonds, double elapsed_seconds);
   void finish();
   static bool wanted();  ///< stderr is a terminal and CI is unset
@@ -110,6 +111,7 @@ class Progress {
  private:
   std::int64_t total_;
   bool enabled_;
+  std::int64_t first_;
   double last_print_ = -1.0;
 };
 

@@ -292,7 +292,8 @@ void run_scene(const scene::Scene& s, const RunOptions& opt) {
   ctx.schedule = &schedule;
   ctx.echo = opt.echo;
   ctx.elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
-  io::Progress progress(state.planned_steps, opt.progress && io::Progress::wanted());
+  io::Progress progress(state.planned_steps, opt.progress && io::Progress::wanted(),
+                        sim->steps_done());
   const auto finish = [&](const char* status, const std::string& message) {
     auto sum = make_summary(s, *sim, ctx.wall_before + ctx.elapsed(), state.particles_start);
     sum.status = status;
