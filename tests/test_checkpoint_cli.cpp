@@ -124,15 +124,20 @@ TEST_F(CheckpointCli, AnUnfinishedPvdIsNotTakenForAWholeOne) {
   }
 }
 
+/// Waits (up to a minute) until the run writing into `out` has more than `rows` history rows.
+void wait_for_rows(const fs::path& out, std::size_t rows) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (std::chrono::steady_clock::now() < deadline) {
+    const auto text = read_text(out / "history.csv");
+    if (static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n')) > rows) return;
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+}
+
 /// Starts the adaptive run, waits until history.csv has `rows` rows, sends `signal`.
 int interrupt_after(const fs::path& dir, const std::string& out, std::size_t rows, int signal) {
   const pid_t pid = spawn_dhpd(dir, {"run", "adaptive.yaml", "-o", out, "-q"});
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
-  while (std::chrono::steady_clock::now() < deadline) {
-    const auto text = read_text(dir / out / "history.csv");
-    if (static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n')) > rows) break;
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  }
+  wait_for_rows(dir / out, rows);
   kill(pid, signal);
   return wait_for(pid);
 }
@@ -160,23 +165,29 @@ TEST_F(CheckpointCli, SigtermAndSigintStopWithACheckpointAndTheRestartMatches) {
 }
 
 TEST_F(CheckpointCli, KillNineAtRandomMomentsLeavesWholeFilesAndRestartsExactly) {
-  const auto start = std::chrono::steady_clock::now();
   const auto ref = reference();
-  const double run_seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const auto rows = read_history(ref / "history.csv").rows.size();
+  // The moment: after a random number of history rows (so it does not depend on how loaded the
+  // machine is), then a random 0-30 ms more (anywhere within the writes of a step).
   std::mt19937 random(20261201);
-  std::uniform_real_distribution<double> moment(0.1, 0.95);
+  std::uniform_int_distribution<std::size_t> row(1, rows - 1);
+  std::uniform_real_distribution<double> extra(0.0, 0.03);
   // At least 20 trials that kill a run and restart it; a kill before the first checkpoint only
-  // checks the .pvd (it depends on the machine's load how many of those there are).
+  // checks the .pvd.
   constexpr int kTrials = 20;
-  int restarted = 0, attempts = 0;
+  int restarted = 0, attempts = 0, mid_checkpoint = 0, mid_frame = 0;
   for (; restarted < kTrials && attempts < 2 * kTrials; ++attempts) {
     const std::string out = "kill" + std::to_string(attempts);
     const pid_t pid = spawn_dhpd(dir_, {"run", "adaptive.yaml", "-o", out, "-q"});
-    std::this_thread::sleep_for(std::chrono::duration<double>(moment(random) * run_seconds));
+    wait_for_rows(dir_ / out, row(random));
+    std::this_thread::sleep_for(std::chrono::duration<double>(extra(random)));
     kill(pid, SIGKILL);
     const int code = wait_for(pid);
     expect_whole_pvd(dir_ / out, "adaptive");
+    for (const auto& f : fs::directory_iterator(dir_ / out)) {  // what the kill interrupted
+      mid_checkpoint += f.path().filename() == "checkpoint.bin.tmp" ? 1 : 0;
+      mid_frame += f.path().extension() == ".tmp" && f.path().stem().extension() == ".vtu";
+    }
     if (!fs::exists(dir_ / out / "checkpoint.bin")) {
       EXPECT_EQ(code, 128 + SIGKILL) << "a finished run leaves a checkpoint";
       continue;  // killed before the first checkpoint
@@ -189,8 +200,8 @@ TEST_F(CheckpointCli, KillNineAtRandomMomentsLeavesWholeFilesAndRestartsExactly)
     ++restarted;
   }
   EXPECT_EQ(restarted, kTrials);
-  std::cerr << restarted << " killed runs restarted in " << attempts << " kills; reference run "
-            << run_seconds << " s\n";
+  std::cerr << restarted << " killed runs restarted in " << attempts << " kills; " << mid_checkpoint
+            << " killed while writing a checkpoint, " << mid_frame << " while writing a frame\n";
 }
 
 }  // namespace
