@@ -137,6 +137,7 @@ class Simulation {
   std::int64_t interaction_updates() const { return interaction_updates_; }
 
  private:
+  friend struct CheckpointAccess;  ///< engine/checkpoint.cpp: archives every member below
   void init_particles();
   void update_bond_constants();
   void update_bond_constants(const std::vector<std::int32_t>& slots);

@@ -17,6 +17,7 @@ class SpatialGrid {
   /// `dim` axes are searched; `base_spacing` and `ratio` fix the cell sizes (cell of the class of
   /// spacing s ≈ ratio × s, rounded to base_spacing × 2^k).
   SpatialGrid(int dim, double base_spacing, double ratio);
+  double base_spacing() const { return base_; }
 
   void insert(std::int32_t i, const geometry::Vec3& x, double spacing);
   /// Removes i (no-op when absent).

@@ -113,6 +113,25 @@ class CrackTracker {
   /// One entry per tip, in the order of Settings::tips.
   std::vector<CrackSummary> summary() const;
 
+  /// Archives what the tracker has measured so far (checkpoints): `Self` is CrackTracker when
+  /// reading, const CrackTracker when writing. Returns false when what was read does not fit
+  /// the tracker's tips.
+  template <class Self, class Archive>
+  static bool archive_state(Self& self, Archive& ar) {
+    std::uint64_t tracks = self.tracks_.size();
+    ar(tracks);
+    if (tracks != self.tracks_.size()) return false;
+    for (auto& t : self.tracks_) {
+      ar(t.time), ar(t.x), ar(t.path), ar(t.initiated), ar(t.running), ar(t.max_speed);
+      ar(t.angle_deg), ar(t.most_branches), ar(t.branch_times), ar(t.branch_positions);
+      const auto n = t.time.size();
+      if (t.x.size() != n || t.path.size() != n || (t.initiated && *t.initiated >= n) ||
+          (t.running && *t.running >= n))
+        return false;
+    }
+    return true;
+  }
+
  private:
   struct Track {
     std::vector<double> time;

@@ -1,6 +1,6 @@
 // The dhpd command line: run, check, bench, plot, report, study, stress. The only place errors
-// become exit codes: 0 success, 1 internal error, 2 bad input (scene or command line), 3 unstable
-// run.
+// become exit codes: 0 success, 1 internal error, 2 bad input (scene, checkpoint or command
+// line), 3 unstable run, 130 / 143 interrupted by SIGINT / SIGTERM (after a checkpoint).
 #include <fmt/core.h>
 #include <omp.h>
 #include <CLI/CLI.hpp>
@@ -36,7 +36,7 @@ int report(const char* kind, const std::exception& e, int code) {
 int main(int argc, char** argv) {
   CLI::App app{"dhpd: dual-horizon peridynamics for dynamic fracture"};
   app.require_subcommand(1);
-  std::string scene_file, out_dir;
+  std::string scene_file, out_dir, restart_dir;
   std::vector<std::string> sets;
   int threads = 0;
   bool quiet = false;
@@ -48,6 +48,18 @@ int main(int argc, char** argv) {
   run->add_option("-t,--threads", threads, "OpenMP threads (default: all cores)")
       ->check(CLI::Range(1, 1024));
   run->add_flag("-q,--quiet", quiet, "no log lines or progress");
+  run->add_option(
+         "--restart", restart_dir,
+         "continue the run whose outputs are in DIR from DIR/checkpoint.bin (or from a checkpoint "
+         "file); "
+         "give the same scene and --set overrides as the first run")
+      ->option_text("DIR");
+  run->footer(
+      "Checkpoints: OUT/checkpoint.bin at the end of a run and every output.checkpoint_every "
+      "steps (the one before stays as checkpoint.prev.bin). SIGINT/SIGTERM finish the step, "
+      "write a checkpoint, a final frame and summary.json (status interrupted), then exit 130 / "
+      "143. A restarted run's results equal an uninterrupted run's, bit for bit.\n"
+      "Example: dhpd run plate.yaml -o out --restart out");
 
   auto* check = app.add_subcommand("check", "validate a scene and print its derived quantities");
   check->add_option("scene", scene_file, "scene file (YAML)")->required();
@@ -133,12 +145,15 @@ int main(int argc, char** argv) {
     opt.threads = threads;
     opt.progress = !quiet;
     opt.echo = !quiet;
+    if (!restart_dir.empty()) opt.restart_from = restart_dir;
     dhpd::run_scene(scene, opt);
     return 0;
   } catch (const dhpd::InputError& e) {
     return report("error", e, 2);
   } catch (const dhpd::InstabilityError& e) {
     return report("unstable run stopped", e, 3);
+  } catch (const dhpd::RunInterrupted& e) {
+    return report("interrupted", e, 128 + e.signal());
   } catch (const std::exception& e) {
     return report("internal error", e, 1);
   }

@@ -20,7 +20,8 @@ constexpr const char* kHistoryHeader =
     "step,time,dt,particles,bonds,broken_bonds,kinetic_energy,strain_energy,external_work,"
     "momentum_x,momentum_y,momentum_z";
 
-/// Writes `text` to `path` via a temporary file in the same directory and a rename.
+}  // namespace
+
 void write_text_atomically(const std::string& path, const std::string& text) {
   const fs::path final_path(path);
   const fs::path tmp = fs::path(final_path).concat(".tmp");
@@ -42,6 +43,14 @@ void write_text_atomically(const std::string& path, const std::string& text) {
   }
 }
 
+std::uint64_t bytes_written(std::ofstream& out) {
+  const auto at = out.tellp();
+  if (at < 0) throw std::runtime_error("cannot tell the length of a CSV file");
+  return static_cast<std::uint64_t>(at);
+}
+
+namespace {
+
 constexpr const char* kRefinementHeader =
     "generation,step,time,parents,children,dropped,particles,bonds,rows_rebuilt,bonds_rebuilt,"
     "rows_touched,started_broken,dt,seconds,resorted,resort_seconds";
@@ -49,10 +58,12 @@ constexpr const char* kRefinementHeader =
 constexpr const char* kCracksHeader =
     "step,time,tip,x,y,z,distance,path_length,speed,angle_deg,branches";
 
-/// A CSV file with its header written and flushed; `what` names it in errors.
-std::ofstream open_csv(const std::string& path, const char* header, const char* what) {
-  std::ofstream out(path, std::ios::trunc);
+/// A CSV file with its header written and flushed, or opened at its end to continue it; `what`
+/// names it in errors.
+std::ofstream open_csv(const std::string& path, const char* header, const char* what, bool append) {
+  std::ofstream out(path, append ? std::ios::app | std::ios::ate : std::ios::trunc);
   if (!out) throw std::runtime_error(fmt::format("cannot open {} file '{}'", what, path));
+  if (append) return out;
   out << header << '\n';
   out.flush();
   if (!out) throw std::runtime_error(fmt::format("cannot write {} file '{}'", what, path));
@@ -96,8 +107,8 @@ nlohmann::ordered_json crack_json(const measure::CrackSummary& c) {
 
 }  // namespace
 
-HistoryWriter::HistoryWriter(const std::string& path)
-    : out_(open_csv(path, kHistoryHeader, "history")) {}
+HistoryWriter::HistoryWriter(const std::string& path, bool append)
+    : out_(open_csv(path, kHistoryHeader, "history", append)) {}
 
 void HistoryWriter::write(const HistoryRow& row) {
   write_row(
@@ -109,8 +120,8 @@ void HistoryWriter::write(const HistoryRow& row) {
       "history");
 }
 
-RefinementWriter::RefinementWriter(const std::string& path)
-    : out_(open_csv(path, kRefinementHeader, "refinement")) {}
+RefinementWriter::RefinementWriter(const std::string& path, bool append)
+    : out_(open_csv(path, kRefinementHeader, "refinement", append)) {}
 
 void RefinementWriter::write(const RefinementRow& r) {
   write_row(out_,
@@ -121,8 +132,8 @@ void RefinementWriter::write(const RefinementRow& r) {
             "refinement");
 }
 
-CrackWriter::CrackWriter(const std::string& path, std::vector<std::string> tip_names)
-    : out_(open_csv(path, kCracksHeader, "cracks")), names_(std::move(tip_names)) {}
+CrackWriter::CrackWriter(const std::string& path, std::vector<std::string> tip_names, bool append)
+    : out_(open_csv(path, kCracksHeader, "cracks", append)), names_(std::move(tip_names)) {}
 
 void CrackWriter::write(const measure::TipRow& r) {
   write_row(
@@ -166,8 +177,8 @@ void write_summary(const std::string& path, const Summary& s) {
   write_text_atomically(path, j.dump(2) + "\n");
 }
 
-Progress::Progress(std::int64_t total_steps, bool enabled)
-    : total_(total_steps), enabled_(enabled) {}
+Progress::Progress(std::int64_t total_steps, bool enabled, std::int64_t first_step)
+    : total_(total_steps), enabled_(enabled), first_(first_step) {}
 
 void Progress::update(std::int64_t step, double time, std::int64_t broken_bonds,
                       double elapsed_seconds) {
@@ -176,9 +187,9 @@ void Progress::update(std::int64_t step, double time, std::int64_t broken_bonds,
   if (last_print_ >= 0.0 && elapsed_seconds - last_print_ < 0.25 && !last) return;
   last_print_ = elapsed_seconds;
   std::string eta = "--";
-  if (step > 0 && total_ > step) {
+  if (step > first_ && total_ > step) {
     const double remaining =
-        elapsed_seconds / static_cast<double>(step) * static_cast<double>(total_ - step);
+        elapsed_seconds / static_cast<double>(step - first_) * static_cast<double>(total_ - step);
     eta = fmt::format("{:.0f}", remaining);
   } else if (last) {
     eta = "0";

@@ -11,6 +11,9 @@
 
 namespace dhpd::io {
 
+/// The length of a CSV file as written so far (every row is flushed).
+std::uint64_t bytes_written(std::ofstream& out);
+
 struct HistoryRow {
   std::int64_t step = 0;
   double time = 0, dt = 0;
@@ -22,8 +25,10 @@ struct HistoryRow {
 /// history.csv with a fixed header; every row is flushed so a crash keeps what was written.
 class HistoryWriter {
  public:
-  explicit HistoryWriter(const std::string& path);
+  /// `append`: continue a file (a restart has cut it back to the checkpoint), no new header.
+  explicit HistoryWriter(const std::string& path, bool append = false);
   void write(const HistoryRow& row);
+  std::uint64_t bytes() { return bytes_written(out_); }
 
  private:
   std::ofstream out_;
@@ -43,8 +48,9 @@ struct RefinementRow {
 /// refinement.csv with a fixed header, flushed per row.
 class RefinementWriter {
  public:
-  explicit RefinementWriter(const std::string& path);
+  explicit RefinementWriter(const std::string& path, bool append = false);
   void write(const RefinementRow& row);
+  std::uint64_t bytes() { return bytes_written(out_); }
 
  private:
   std::ofstream out_;
@@ -53,8 +59,9 @@ class RefinementWriter {
 /// cracks.csv (`measure`): one row per tip and measurement, header first, flushed per row.
 class CrackWriter {
  public:
-  CrackWriter(const std::string& path, std::vector<std::string> tip_names);
+  CrackWriter(const std::string& path, std::vector<std::string> tip_names, bool append = false);
   void write(const measure::TipRow& row);
+  std::uint64_t bytes() { return bytes_written(out_); }
 
  private:
   std::ofstream out_;
@@ -88,12 +95,15 @@ struct Summary {
 
 /// Writes summary.json (atomically: temporary file, then rename).
 void write_summary(const std::string& path, const Summary& s);
+/// Writes `text` to `path` via a temporary file in the same directory and a rename.
+void write_text_atomically(const std::string& path, const std::string& text);
 
 /// One-line progress on a terminal: step, time, ETA, broken bonds. Silent when stderr is not a
 /// terminal or the CI environment variable is set.
 class Progress {
  public:
-  Progress(std::int64_t total_steps, bool enabled);
+  /// `first_step`: the steps done before this process (a restart); the ETA uses only the rest.
+  Progress(std::int64_t total_steps, bool enabled, std::int64_t first_step = 0);
   void update(std::int64_t step, double time, std::int64_t broken_bonds, double elapsed_seconds);
   void finish();
   static bool wanted();  ///< stderr is a terminal and CI is unset
@@ -101,6 +111,7 @@ class Progress {
  private:
   std::int64_t total_;
   bool enabled_;
+  std::int64_t first_;
   double last_print_ = -1.0;
 };
 

@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 #include <omp.h>
 #include <chrono>
+#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -13,7 +14,11 @@
 #include "engine/errors.hpp"
 #include "refine/refiner.hpp"
 #include "tools/frame_fields.hpp"
+#include "tools/run_checkpoint.hpp"
 #include "tools/run_outputs.hpp"
+#include "tools/run_parts.hpp"
+#include "tools/run_restart.hpp"
+#include "tools/run_signals.hpp"
 #include "tools/scene_build.hpp"
 #include "tools/vtk_writer.hpp"
 
@@ -22,136 +27,15 @@ namespace {
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
+using run::CrackHook;
+using run::RefinementHook;
+using run::Schedule;
 
 std::vector<std::string> output_field_names(const scene::Scene& s) {
   auto names = scene::default_fields();
   for (const auto& f : s.output.fields) names.push_back(f);
   return names;
 }
-
-/// Steps at which frames are written after frame 0: every N steps, or F frames spread evenly.
-std::vector<std::int64_t> frame_steps(const scene::Scene& s, std::int64_t total) {
-  std::vector<std::int64_t> out;
-  if (s.output.every) {
-    for (std::int64_t k = *s.output.every; k < total; k += *s.output.every) out.push_back(k);
-  } else {
-    const std::int64_t frames = s.output.frames.value_or(20);
-    for (std::int64_t k = 1; k < frames; ++k) {
-      const std::int64_t step = (k * total + frames / 2) / frames;
-      if (step > 0 && step < total && (out.empty() || out.back() != step)) out.push_back(step);
-    }
-  }
-  if (total > 0) out.push_back(total);
-  return out;
-}
-
-/// When a run ends and frames are due. A run with refinement and `time.end` runs to the end time
-/// (dt changes at events), with `output.frames` spread over time; otherwise steps are planned.
-class Schedule {
- public:
-  Schedule(const scene::Scene& s, std::int64_t planned, bool by_time)
-      : s_(s), planned_(planned), by_time_(by_time) {
-    if (!by_time_) {
-      steps_ = frame_steps(s, planned);
-    } else if (!s.output.every) {
-      const std::int64_t frames = s.output.frames.value_or(20);
-      for (std::int64_t k = 1; k < frames; ++k)
-        times_.push_back(*s.time.end * static_cast<double>(k) / static_cast<double>(frames));
-    }
-  }
-  bool finished(std::int64_t k, double t) const {
-    return by_time_ ? t >= *s_.time.end * (1.0 - 1e-12) : k >= planned_;
-  }
-  /// Whether step k (just done, at time t) writes a frame; call once per step.
-  bool frame(std::int64_t k, double t) {
-    if (finished(k, t)) return true;
-    if (!by_time_) {
-      const bool due = next_ < steps_.size() && steps_[next_] == k;
-      next_ += due ? 1 : 0;
-      return due;
-    }
-    if (s_.output.every) return k % *s_.output.every == 0;
-    bool due = false;
-    while (next_ < times_.size() && t >= times_[next_] * (1.0 - 1e-12)) due = true, ++next_;
-    return due;
-  }
-
- private:
-  const scene::Scene& s_;
-  std::int64_t planned_;
-  bool by_time_;
-  std::vector<std::int64_t> steps_;
-  std::vector<double> times_;
-  std::size_t next_ = 0;
-};
-
-/// The refiner of a scene with effects.refinement and its log (refinement.csv).
-struct RefinementHook {
-  RefinementHook(const refine::Settings& settings, bool echo_lines)
-      : refiner(settings), echo(echo_lines) {}
-  refine::Refiner refiner;
-  std::vector<RefinementEvent> pending;  ///< zone events applied before the output existed
-  std::unique_ptr<io::RefinementWriter> csv;
-  bool echo = true;
-  std::int64_t events = 0;
-
-  void log(const Simulation& sim, const RefinementEvent& ev) {
-    io::RefinementRow r;
-    r.generation = ev.generation;
-    r.step = sim.steps_done();
-    r.time = sim.time();
-    r.parents = static_cast<std::int64_t>(ev.parents);
-    r.children = static_cast<std::int64_t>(ev.children);
-    r.dropped = static_cast<std::int64_t>(ev.dropped);
-    r.particles = static_cast<std::int64_t>(sim.particles().size());
-    r.bonds = static_cast<std::int64_t>(ev.bonds);
-    r.rows_rebuilt = static_cast<std::int64_t>(ev.rows_rebuilt);
-    r.bonds_rebuilt = static_cast<std::int64_t>(ev.bonds_rebuilt);
-    r.rows_touched = static_cast<std::int64_t>(ev.rows_touched);
-    r.started_broken = ev.started_broken;
-    r.dt = sim.dt();
-    r.seconds = ev.seconds;
-    r.resorted = ev.resorted ? 1 : 0;
-    r.resort_seconds = ev.resort_seconds;
-    csv->write(r);
-    ++events;
-    if (echo)
-      fmt::print(
-          "dhpd: refinement {} at step {} (t = {:.4g} s): {} parents -> {} children; {} "
-          "particles; {} rows, {} bonds rebuilt ({} start broken); dt = {:.4g} s; {:.4f} s{}\n",
-          r.generation, r.step, r.time, r.parents, r.children, r.particles, r.rows_rebuilt,
-          r.bonds_rebuilt, r.started_broken, r.dt, r.seconds,
-          ev.resorted ? fmt::format(" (+ re-sort {:.4f} s)", ev.resort_seconds) : "");
-  }
-};
-
-/// Crack measurements of a scene with `measure`: cracks.csv and the summary's "cracks".
-struct CrackHook {
-  CrackHook(const scene::MeasureSpec& spec, const Simulation& sim, const fs::path& dir)
-      : tracker(spec.settings),
-        csv((dir / "cracks.csv").string(), tip_names(spec.settings)),
-        published(spec.published),
-        rayleigh_speed(measure::rayleigh_speed_near(sim.particles(), sim.setup().materials,
-                                                    sim.setup().section,
-                                                    spec.settings.tips.front().at)) {}
-  measure::CrackTracker tracker;
-  io::CrackWriter csv;
-  std::optional<measure::Published> published;
-  double rayleigh_speed;
-
-  static std::vector<std::string> tip_names(const measure::Settings& s) {
-    std::vector<std::string> names;
-    for (const auto& t : s.tips) names.push_back(t.name);
-    return names;
-  }
-  void take_measurement(Simulation& sim) {
-    sim.update_damage();
-    auto t = sim.timers().scope(Phase::Diagnostics);
-    for (const auto& row : tracker.measure(sim.particles(), sim.steps_done(), sim.time()))
-      csv.write(row);
-  }
-  io::CrackReport report() const { return {rayleigh_speed, tracker.summary(), published}; }
-};
 
 io::HistoryRow history_row(const Simulation& sim, const Energies& e) {
   io::HistoryRow r;
@@ -174,7 +58,15 @@ struct RunContext {
   io::FrameSeries frames;
   io::HistoryWriter history;
   std::vector<std::string> fields;
-  CrackHook* cracks = nullptr;  ///< with `measure` only
+  CrackHook* cracks = nullptr;     ///< with `measure` only
+  RefinementHook* hook = nullptr;  ///< with `effects.refinement` only
+  Schedule* schedule = nullptr;
+  RunState* state = nullptr;  ///< what a checkpoint saves besides the simulation
+  std::string scene_text{};   ///< checkpoint_scene_text of the scene
+  fs::path checkpoint_file{};
+  std::function<double()> elapsed{};  ///< wall seconds of this process
+  double wall_before = 0.0;           ///< wall seconds of the runs this one continues
+  bool echo = true;                   ///< a log line per checkpoint
 
   /// Measures the cracks at measurement steps and at the last step.
   void measure(bool last) {
@@ -194,6 +86,29 @@ struct RunContext {
       history.write(history_row(sim, e));
     }
     if (frame) write_frame();
+  }
+  /// Whether step k writes a checkpoint: every output.checkpoint_every steps (never for 0).
+  bool checkpoint_due(std::int64_t k) const {
+    const auto every = scene.output.checkpoint_every;
+    return every && *every > 0 && k % *every == 0;
+  }
+  /// The checkpoint of the state after the current step; it changes no state of the run.
+  void checkpoint() {
+    auto& st = *state;
+    st.schedule_position = schedule->position();
+    st.frames = frames.entries();
+    st.history_bytes = history.bytes();
+    st.refinement_bytes = hook ? hook->csv->bytes() : 0;
+    st.cracks_bytes = cracks ? cracks->csv.bytes() : 0;
+    st.refinement_events = hook ? hook->events : 0;
+    st.wall_seconds = wall_before + elapsed();
+    auto t = sim.timers().scope(Phase::Output);
+    const auto begin = Clock::now();
+    const auto bytes = write_checkpoint(checkpoint_file.string(), sim, st, scene_text);
+    if (echo)
+      fmt::print("dhpd: checkpoint after step {}: {} ({:.1f} MB in {:.3f} s)\n", sim.steps_done(),
+                 checkpoint_file.string(), static_cast<double>(bytes) / 1e6,
+                 std::chrono::duration<double>(Clock::now() - begin).count());
   }
 };
 
@@ -225,67 +140,33 @@ io::Summary make_summary(const scene::Scene& s, const Simulation& sim, double wa
   return sum;
 }
 
-void write_text(const fs::path& path, const std::string& text) {
-  const fs::path tmp = path.string() + ".tmp";
-  {
-    std::ofstream out(tmp);
-    out << text;
-    if (!out) throw std::runtime_error("cannot write " + tmp.string());
-  }
-  fs::rename(tmp, path);
-}
-
-void log_start(const scene::Scene& s, const Simulation& sim, std::int64_t steps,
-               const fs::path& dir) {
-  fmt::print("dhpd: scene '{}' ({}), {}D, model {}, partial volume {}\n", s.name, s.file,
-             s.dimension, to_string(s.model), to_string(s.partial_volume));
-  fmt::print(
-      "dhpd: {} particles, {} bonds, {} interactions; dt = {:.4g} s (stable {:.4g} s), {} steps\n",
-      sim.particles().size(), sim.bonds().size(), sim.interactions().size(), sim.dt(),
-      sim.critical_dt(), steps);
-  fmt::print("dhpd: active effects: elasticity{}{}; threads {}; output in {}\n",
-             s.effects.fracture ? ", fracture" : "", s.refinement ? ", refinement" : "",
-             omp_get_max_threads(), dir.string());
-}
-
-/// One line per measured tip: initiation, angle, speeds against c_R, branchings.
-void log_cracks(const io::CrackReport& report) {
-  const double c_r = report.rayleigh_speed;
-  for (const auto& c : report.cracks) {
-    auto text = [](const std::optional<double>& v, const char* format) {
-      return v ? fmt::format(fmt::runtime(format), *v) : std::string("none");
-    };
-    fmt::print(
-        "dhpd: crack {}: initiation {} s, angle {} deg, max speed {} m/s ({} c_R), mean {} m/s, "
-        "{} branching(s){}\n",
-        c.name, text(c.initiation_time, "{:.4g}"), text(c.angle_deg, "{:.1f}"),
-        text(c.max_speed, "{:.4g}"),
-        text(c.max_speed ? std::optional<double>(*c.max_speed / c_r) : std::nullopt, "{:.2f}"),
-        text(c.mean_speed, "{:.4g}"), c.branch_times.size(),
-        c.branch_times.empty() ? "" : fmt::format(" at {:.4g} s", fmt::join(c.branch_times, ", ")));
-  }
-}
-
-void log_end(const io::Summary& sum) {
-  fmt::print(
-      "dhpd: {} in {:.3f} s: {} steps, {} broken bonds, {:.3g} bond updates/s, {:.3g} "
-      "particle-steps/s\n",
-      sum.status, sum.wall_seconds, sum.steps, sum.broken_bonds, sum.bond_updates_per_second,
-      sum.particle_steps_per_second);
-  std::string phases;
-  for (const auto& p : sum.phases) phases += fmt::format(" {} {:.3f} s;", p.name, p.seconds);
-  fmt::print("dhpd: time per phase:{}\n", phases);
-  if (sum.cracks) log_cracks(*sum.cracks);
+/// SIGINT/SIGTERM after step k: the checkpoint of this state (unless step k just wrote it), then
+/// a final frame (unless step k wrote one), then RunInterrupted.
+[[noreturn]] void interrupt(RunContext& ctx, int signal, std::int64_t k, bool frame_written) {
+  if (!ctx.checkpoint_due(k)) ctx.checkpoint();
+  if (!frame_written) ctx.write_frame();
+  const char* name = signal == SIGINT ? "SIGINT" : "SIGTERM";
+  throw RunInterrupted(
+      signal, fmt::format("{} after step {} (t = {:.6g} s); checkpoint {}; continue with: dhpd run "
+                          "{} --out DIR --restart {}",
+                          name, k, ctx.sim.time(), ctx.checkpoint_file.string(), ctx.scene.file,
+                          ctx.checkpoint_file.parent_path().string()));
 }
 
 /// Steps until the schedule says the run is over; refinement checks after each due step, crack
-/// measurements at step 0, every `measure.every` steps and at the last step.
-void time_loop(RunContext& ctx, RefinementHook* hook, Schedule& schedule, io::Progress& progress,
-               const std::function<double()>& elapsed) {
+/// measurements at step 0, every `measure.every` steps and at the last step; checkpoints every
+/// output.checkpoint_every steps and at the end. A restarted run starts after its checkpoint.
+void time_loop(RunContext& ctx, io::Progress& progress) {
   auto& sim = ctx.sim;
-  ctx.record(true);
-  ctx.measure(false);
-  for (std::int64_t k = 1; !schedule.finished(k - 1, sim.time()); ++k) {
+  auto& schedule = *ctx.schedule;
+  auto* hook = ctx.hook;
+  const std::int64_t first = sim.steps_done() + 1;
+  if (first == 1) {
+    ctx.record(true);
+    ctx.measure(false);
+  }
+  const InterruptSignals signals;
+  for (std::int64_t k = first; !schedule.finished(k - 1, sim.time()); ++k) {
     sim.step();
     if (hook && hook->refiner.due(k)) {
       const auto ev = hook->refiner.check(sim);
@@ -293,10 +174,82 @@ void time_loop(RunContext& ctx, RefinementHook* hook, Schedule& schedule, io::Pr
     }
     const bool frame = schedule.frame(k, sim.time());
     if (frame || k % ctx.scene.output.history_every == 0) ctx.record(frame);
-    ctx.measure(schedule.finished(k, sim.time()));
-    progress.update(k, sim.time(), sim.broken_bonds(), elapsed());
+    const bool last = schedule.finished(k, sim.time());
+    ctx.measure(last);
+    progress.update(k, sim.time(), sim.broken_bonds(), ctx.elapsed());
+    if (last) break;
+    if (ctx.checkpoint_due(k)) ctx.checkpoint();
+    if (const int signal = signals.caught()) {
+      progress.finish();
+      interrupt(ctx, signal, k, frame);
+    }
   }
   progress.finish();
+  if (ctx.scene.output.checkpoint_every.value_or(1) != 0) ctx.checkpoint();
+}
+
+/// The CSV files whose length a checkpoint records.
+std::vector<CsvLength> csv_lengths(const scene::Scene& s, const RunState& st) {
+  std::vector<CsvLength> out{{"history.csv", st.history_bytes}};
+  if (s.refinement) out.push_back({"refinement.csv", st.refinement_bytes});
+  if (s.measure) out.push_back({"cracks.csv", st.cracks_bytes});
+  return out;
+}
+
+/// A new run at step 0: the zones are refined first, then what the outputs report is fixed.
+void start_run(const scene::Scene& s, Simulation& sim, RefinementHook* hook, RunState& st) {
+  if (hook) hook->pending = hook->refiner.refine_zones(sim);
+  st.planned_steps = scene::planned_steps(s, sim.dt());
+  st.particles_start = static_cast<std::int64_t>(sim.particles().size());
+  st.derived_text = scene::derived_yaml(s, sim);
+  if (s.measure)
+    st.rayleigh_speed =
+        measure::rayleigh_speed_near(sim.particles(), sim.setup().materials, sim.setup().section,
+                                     s.measure->settings.tips.front().at);
+}
+
+/// A restarted run: the simulation and `st` from the checkpoint; returns the first run's folder.
+/// Everything is checked before anything is written.
+fs::path resume_run(const scene::Scene& s, const RunOptions& opt, Simulation& sim, RunState& st) {
+  const auto file = checkpoint_path(*opt.restart_from);
+  load_checkpoint(file, sim, st, checkpoint_scene_text(s));
+  const fs::path from = fs::path(file).has_parent_path() ? fs::path(file).parent_path() : ".";
+  check_restart_outputs(from, st, csv_lengths(s, st));
+  if (opt.echo)
+    fmt::print("dhpd: restarting from {} after step {} (t = {:.6g} s)\n", file, sim.steps_done(),
+               sim.time());
+  return from;
+}
+
+/// Creates `dir`; restarting, continues the first run's outputs there; otherwise removes the
+/// checkpoints of an older run whose outputs this one replaces.
+void prepare_folder(const scene::Scene& s, const fs::path& dir, const std::optional<fs::path>& from,
+                    const RunState& state) {
+  fs::create_directories(dir);
+  if (from) {
+    continue_outputs(*from, dir, state, csv_lengths(s, state));
+    return;
+  }
+  std::error_code ec;
+  fs::remove(dir / "checkpoint.bin", ec);
+  fs::remove(dir / "checkpoint.prev.bin", ec);
+}
+
+/// Opens (or, restarting, continues) the outputs in `dir`.
+RunContext open_outputs(const scene::Scene& s, Simulation& sim, const fs::path& dir,
+                        RunState& state, bool resumed) {
+  auto resolved = s;
+  resolved.output.directory = dir.string();  // where this run really writes
+  io::write_text_atomically((dir / "scene.resolved.yaml").string(),
+                            scene::resolved_yaml(resolved) + "---\n" + state.derived_text);
+  RunContext ctx{s, sim, io::FrameSeries(dir.string(), s.name),
+                 io::HistoryWriter((dir / "history.csv").string(), resumed), output_field_names(s)};
+  if (resumed) ctx.frames.resume(state.frames);
+  ctx.state = &state;
+  ctx.scene_text = checkpoint_scene_text(s);
+  ctx.checkpoint_file = dir / "checkpoint.bin";
+  ctx.wall_before = state.wall_seconds;
+  return ctx;
 }
 
 }  // namespace
@@ -305,55 +258,62 @@ void run_scene(const scene::Scene& s, const RunOptions& opt) {
   if (opt.threads > 0) omp_set_num_threads(opt.threads);
   const auto start = Clock::now();
   auto sim = scene::build_simulation(s);  // every check happens here, before any output
-  const auto particles_start = static_cast<std::int64_t>(sim->particles().size());
   std::unique_ptr<RefinementHook> hook;
-  if (s.refinement) {
-    hook = std::make_unique<RefinementHook>(s.refinement->settings, opt.echo);
-    hook->pending = hook->refiner.refine_zones(*sim);
-  }
-  const std::int64_t steps = scene::planned_steps(s, sim->dt());
+  if (s.refinement) hook = std::make_unique<RefinementHook>(s.refinement->settings, opt.echo);
+  std::optional<measure::CrackTracker> tracker;
+  if (s.measure) tracker.emplace(s.measure->settings);
+  RunState state;
+  state.cracks = tracker ? &*tracker : nullptr;
+  std::optional<fs::path> from;
+  if (opt.restart_from)
+    from = resume_run(s, opt, *sim, state);
+  else
+    start_run(s, *sim, hook.get(), state);
   const fs::path dir = opt.output_directory.value_or(s.output.directory);
-  fs::create_directories(dir);
-  auto resolved = s;
-  resolved.output.directory = dir.string();  // where this run really writes
-  write_text(dir / "scene.resolved.yaml",
-             scene::resolved_yaml(resolved) + "---\n" + scene::derived_yaml(s, *sim));
-  if (opt.echo) log_start(s, *sim, steps, dir);
+  prepare_folder(s, dir, from, state);
+  auto ctx = open_outputs(s, *sim, dir, state, from.has_value());
+  if (opt.echo) run::log_start(s, *sim, state.planned_steps, dir);
   if (hook) {
-    hook->csv = std::make_unique<io::RefinementWriter>((dir / "refinement.csv").string());
+    hook->events = state.refinement_events;
+    hook->csv =
+        std::make_unique<io::RefinementWriter>((dir / "refinement.csv").string(), from.has_value());
     for (const auto& ev : hook->pending) hook->log(*sim, ev);
   }
   std::unique_ptr<CrackHook> cracks;
-  if (s.measure) cracks = std::make_unique<CrackHook>(*s.measure, *sim, dir);
-  RunContext ctx{s,
-                 *sim,
-                 io::FrameSeries(dir.string(), s.name),
-                 io::HistoryWriter((dir / "history.csv").string()),
-                 output_field_names(s),
-                 cracks.get()};
-  Schedule schedule(s, steps, s.refinement && s.time.end);
-  io::Progress progress(steps, opt.progress && io::Progress::wanted());
-  auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
-  auto summary = [&](const char* status) {
-    auto sum = make_summary(s, *sim, elapsed(), particles_start);
+  if (s.measure) {
+    cracks = std::make_unique<CrackHook>(*s.measure, std::move(*tracker), dir, from.has_value(),
+                                         state.rayleigh_speed);
+    state.cracks = &cracks->tracker;
+  }
+  Schedule schedule(s, state.planned_steps, s.refinement && s.time.end);
+  if (from) schedule.resume(state.schedule_position);
+  ctx.cracks = cracks.get();
+  ctx.hook = hook.get();
+  ctx.schedule = &schedule;
+  ctx.echo = opt.echo;
+  ctx.elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
+  io::Progress progress(state.planned_steps, opt.progress && io::Progress::wanted(),
+                        sim->steps_done());
+  const auto finish = [&](const char* status, const std::string& message) {
+    auto sum = make_summary(s, *sim, ctx.wall_before + ctx.elapsed(), state.particles_start);
     sum.status = status;
+    sum.message = message;
     sum.refinement_events = hook ? hook->events : 0;
     if (cracks) sum.cracks = cracks->report();
-    return sum;
+    io::write_summary((dir / "summary.json").string(), sum);
+    if (opt.echo) run::log_end(sum);
   };
   try {
-    time_loop(ctx, hook.get(), schedule, progress, elapsed);
+    time_loop(ctx, progress);
   } catch (const InstabilityError& e) {
     progress.finish();
-    auto sum = summary("unstable");
-    sum.message = e.what();
-    io::write_summary((dir / "summary.json").string(), sum);
-    if (opt.echo) log_end(sum);
+    finish("unstable", e.what());
+    throw;
+  } catch (const RunInterrupted& e) {
+    finish("interrupted", e.what());
     throw;
   }
-  const auto sum = summary("completed");
-  io::write_summary((dir / "summary.json").string(), sum);
-  if (opt.echo) log_end(sum);
+  finish("completed", "");
 }
 
 void check_scene(const scene::Scene& s, std::ostream& out) {

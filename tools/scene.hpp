@@ -98,6 +98,9 @@ struct OutputSpec {
   std::optional<std::int64_t> frames;  ///< this many frames spread over the run (default 20)
   std::vector<std::string> fields;     ///< extra point fields beyond the always-written ones
   std::int64_t history_every = 10;
+  /// Steps between checkpoints (plus one at the end of the run); 0: none, not even at the end
+  /// (SIGINT/SIGTERM still write one); absent: only at the end.
+  std::optional<std::int64_t> checkpoint_every;
 };
 
 /// `effects.refinement` (cases/README.md): absent or `false` means no refiner at all.

@@ -220,6 +220,8 @@ void emit_output(YAML::Emitter& out, const OutputSpec& output) {
   if (output.frames) out << YAML::Key << "frames" << YAML::Value << *output.frames;
   out << YAML::Key << "fields" << YAML::Value << YAML::Flow << output.fields;
   out << YAML::Key << "history_every" << YAML::Value << output.history_every;
+  if (output.checkpoint_every)
+    out << YAML::Key << "checkpoint_every" << YAML::Value << *output.checkpoint_every;
   out << YAML::EndMap;
 }
 

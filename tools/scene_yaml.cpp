@@ -181,7 +181,8 @@ std::vector<std::string> read_fields(const Cursor& c) {
 }
 
 OutputSpec read_output(const Cursor& c) {
-  const MapView map(c, {"directory", "every", "frames", "fields", "history_every"});
+  const MapView map(
+      c, {"directory", "every", "frames", "fields", "history_every", "checkpoint_every"});
   OutputSpec out;
   if (const auto dir = map.get("directory")) {
     out.directory = dir->string();
@@ -195,6 +196,12 @@ OutputSpec read_output(const Cursor& c) {
   if (const auto fields = map.get("fields")) out.fields = read_fields(*fields);
   if (const auto every = map.get("history_every"))
     out.history_every = detail::positive_integer(*every);
+  if (const auto every = map.get("checkpoint_every")) {
+    out.checkpoint_every = every->integer();
+    if (*out.checkpoint_every < 0)
+      every->fail(fmt::format("checkpoint_every must be >= 0, got {}", *out.checkpoint_every),
+                  ">= 0 (steps between checkpoints; 0: no checkpoint at all)");
+  }
   return out;
 }
 

@@ -2,8 +2,10 @@
 #include "tools/vtk_writer.hpp"
 
 #include <fmt/format.h>
+#include <vtkCallbackCommand.h>
 #include <vtkCellArray.h>
 #include <vtkCellType.h>
+#include <vtkCommand.h>
 #include <vtkDataArray.h>
 #include <vtkDoubleArray.h>
 #include <vtkFieldData.h>
@@ -15,6 +17,8 @@
 #include <vtkTypeInt64Array.h>
 #include <vtkUnstructuredGrid.h>
 #include <vtkVariant.h>
+#include <vtkXMLDataElement.h>
+#include <vtkXMLDataParser.h>
 #include <vtkXMLUnstructuredGridReader.h>
 #include <vtkXMLUnstructuredGridWriter.h>
 
@@ -218,6 +222,12 @@ void FrameSeries::write(double time, std::int64_t step, const std::vector<double
   write_pvd();
 }
 
+void FrameSeries::resume(std::vector<std::pair<double, std::string>> entries) {
+  ensure_directory(directory_);
+  entries_ = std::move(entries);
+  write_pvd();
+}
+
 void FrameSeries::write_pvd() const {
   std::string text =
       "<?xml version=\"1.0\"?>\n"
@@ -293,6 +303,16 @@ std::vector<std::pair<double, std::string>> read_pvd(const std::string& pvd_path
   std::ostringstream buffer;
   buffer << in.rdbuf();
   const std::string text = buffer.str();
+  // A whole XML document with a VTKFile root and a Collection (VTK's own XML parser).
+  auto parser = vtkSmartPointer<vtkXMLDataParser>::New();
+  auto quiet = vtkSmartPointer<vtkCallbackCommand>::New();  // the error is ours to report
+  parser->AddObserver(vtkCommand::ErrorEvent, quiet);
+  std::istringstream xml(text);
+  parser->SetStream(&xml);
+  vtkXMLDataElement* root = parser->Parse() ? parser->GetRootElement() : nullptr;
+  if (!root || std::string(root->GetName()) != "VTKFile" ||
+      !root->FindNestedElementWithName("Collection"))
+    throw std::runtime_error(fmt::format("'{}' is not a whole VTK collection file", pvd_path));
 
   std::vector<std::pair<double, std::string>> entries;
   for (std::size_t pos = text.find("<DataSet"); pos != std::string::npos;

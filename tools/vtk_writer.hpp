@@ -25,6 +25,11 @@ class FrameSeries {
   void write(double time, std::int64_t step, const std::vector<double>& points,
              const std::vector<PointField>& fields);
   std::size_t frames_written() const { return entries_.size(); }
+  /// (time, file) of every frame listed in the .pvd.
+  const std::vector<std::pair<double, std::string>>& entries() const { return entries_; }
+  /// Continues a series whose frames `entries` exist (a restart): rewrites the .pvd to list
+  /// exactly them; the next frame gets the next number.
+  void resume(std::vector<std::pair<double, std::string>> entries);
 
  private:
   void write_pvd() const;
