@@ -81,6 +81,13 @@ void read_line(const LineSource& at, const std::vector<std::string>& columns,
     at.fail("no material column and no default material: add the material as the last column");
   }
   const double measure = volume / o.section;
+  // A volume far from the section's scale over- or underflows: no particle may get a cell
+  // measure of 0 or infinity.
+  if (!(std::isfinite(measure) && measure > 0.0))
+    at.fail(
+        fmt::format("volume {} divided by the section {:g} (the thickness in 2D, the area "
+                    "in 1D) gives a cell measure of {:g}, which is not a finite number > 0",
+                    columns[dim], o.section, measure));
   out.position.push_back(x);
   out.cell_measure.push_back(measure);
   out.spacing.push_back(std::pow(measure, 1.0 / o.dim));

@@ -77,6 +77,22 @@ TEST(PointsFile, DimensionDecidesTheColumns) {
   EXPECT_DOUBLE_EQ(bar.spacing[0], 3.0);
 }
 
+// Found by fuzzing (tests/fuzz): a volume far from the section's scale gave particles a cell
+// measure of infinity or 0 (and so a zero spacing and horizon) without a word.
+TEST(PointsFile, VolumeThatOverflowsOrUnderflowsTheCellMeasureIsRefused) {
+  auto o = options_2d();
+  o.section = 1e-300;  // a (silly but valid) thickness
+  EXPECT_EQ(error_of("0 0 1e-9 glass\n0 0 1e308 glass\n", o),
+            "pts.txt:2: volume 1e308 divided by the section 1e-300 (the thickness in 2D, the area "
+            "in 1D) gives a cell measure of inf, which is not a finite number > 0");
+  o.section = 1e300;
+  EXPECT_EQ(error_of("0 0 1e-30 glass\n", o),
+            "pts.txt:1: volume 1e-30 divided by the section 1e+300 (the thickness in 2D, the area "
+            "in 1D) gives a cell measure of 0, which is not a finite number > 0");
+  o.section = 1.0;
+  EXPECT_EQ(parse("0 0 1e-310 glass\n", o).cell_measure[0], 1e-310);  // tiny but > 0 is kept
+}
+
 TEST(PointsFile, EachErrorNamesFileLineAndProblem) {
   const auto o = options_2d();
   const std::string good = "0 0 1e-9 glass\n";

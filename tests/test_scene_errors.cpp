@@ -41,6 +41,28 @@ std::string measured(const std::string& tip = "{name: a, at: [0.5, 0.5], directi
   return "effects: {fracture: true}\nmeasure:\n  tips:\n    - " + tip + "\n";
 }
 
+/// no_fail regions r0..r<levels>, each the union of two aliases of the one before: a few lines
+/// that stand for 2^levels boxes ("billion laughs").
+std::string alias_ladder(int levels) {
+  std::string text = "no_fail:\n  - &r0 {shape: box, min: [0, 0], max: [1, 1]}\n";
+  for (int k = 1; k <= levels; ++k)
+    text += "  - &r" + std::to_string(k) + " {shape: union, of: [*r" + std::to_string(k - 1) +
+            ", *r" + std::to_string(k - 1) + "]}\n";
+  return plus(text);
+}
+
+std::string repeated(const std::string& text, int times) {
+  std::string out;
+  for (int k = 0; k < times; ++k) out += text;
+  return out;
+}
+
+/// A time.end of `depth` nested one-item lists.
+std::string nested_lists(int depth) {
+  return replace_line(
+      7, "time: {end: " + std::string(depth, '[') + "1" + std::string(depth, ']') + "}");
+}
+
 const std::vector<BadScene> kBadScenes = {
     {"UnknownKeySuggestion",
      replace_line(6, "  - {shape: box, min: [0, 0], max: [1, 1], spacing: 0.1, materail: glass}"),
@@ -65,6 +87,17 @@ const std::vector<BadScene> kBadScenes = {
     {"SpacingZero",
      replace_line(6, "  - {shape: box, min: [0, 0], max: [1, 1], spacing: 0, material: glass}"),
      "bad.yaml:6: body.0.spacing: spacing must be > 0, got 0 (allowed: > 0)"},
+    // Without the limit a mistyped spacing asked the lattice for 1e12 cells (and 1e300 overflowed
+    // its integer cell counts).
+    {"SpacingMakesTooManyCells",
+     replace_line(6, "  - {shape: box, min: [0, 0], max: [1, 1], spacing: 1e-6, material: glass}"),
+     "bad.yaml:6: body.0.spacing: spacing 1e-06 makes about 1e+12 cells in this part, more than "
+     "the 2147483647 particles a run can hold (allowed: spacing >= 2.16e-05)"},
+    {"MeshSizeMakesTooManyCells",
+     replace_line(6,
+                  "  - {shape: box, min: [0, 0], max: [1, 1], mesh: {size: 1e-300}, material: "
+                  "glass}"),
+     "bad.yaml:6: body.0.mesh.size: size 1e-300 makes about inf cells in this part"},
     {"SpacingLargerThanPart",
      replace_line(6, "  - {shape: box, min: [0, 0], max: [1, 0.5], spacing: 0.6, material: glass}"),
      "bad.yaml:6: body.0.spacing: spacing 0.6 is larger than the part's smallest extent 0.5"},
@@ -386,6 +419,22 @@ const std::vector<BadScene> kBadScenes = {
      kMinimal,
      "--set time.end: cannot read the value '[1' as YAML",
      {{"time.end", "[1"}}},
+    // Hostile trees (found by fuzzing, tests/fuzz): without the check the reader recursed
+    // forever on a cycle and expanded alias ladders without bound.
+    {"AliasInsideItsOwnValue",
+     replace_line(6, "  - &part {shape: union, of: [*part], spacing: 0.1, material: glass}"),
+     "bad.yaml:6: body.0.of.0: an alias stands for a value that contains this alias"},
+    {"AliasCycleThroughAMap", plus("no_fail: &list\n  - {shape: union, of: *list}"),
+     "bad.yaml:8: no_fail.0.of: an alias stands for a value that contains this alias"},
+    {"AliasLadder", alias_ladder(14), "aliases expand to more than 10000 repeated values"},
+    {"NestedTooDeep", nested_lists(64),
+     // the value with 64 containers above it: the root map, the time map and 62 lists
+     "bad.yaml:7: time.end" + repeated(".0", 62) + ": values are nested more than 64 levels deep"},
+    {"SetAliasCycle",
+     kMinimal,
+     "--set no_fail: cannot use the value '&x [{shape: union, of: *x}]': 0.of: an alias stands for "
+     "a value that contains this alias",
+     {{"no_fail", "&x [{shape: union, of: *x}]"}}},
     {"SetInsideNewMap",
      kMinimal,
      "--set effects.fracture: expected true or false, got 'maybe'",

@@ -85,6 +85,21 @@ std::optional<std::string> closest_word(std::string_view word,
 /// Axis names "x", "y", "z" limited to the dimension.
 std::vector<std::string> axis_names(int dim);
 
+/// Limits on the shape of a YAML tree (scene_tree.cpp): nesting depth, and values repeated by
+/// expanding aliases (an anchored value used again counts once per use).
+inline constexpr std::size_t kMaxSceneDepth = 64;
+inline constexpr std::size_t kMaxAliasExpansion = 10000;
+
+/// Why a tree cannot be read, with the 1-based line of the offending value (0 when unknown).
+struct TreeProblem {
+  int line = 0;
+  std::string path;  ///< key path of the offending value
+  std::string message;
+};
+/// A cycle (an alias inside the value it names), nesting beyond kMaxSceneDepth, or aliases
+/// expanding beyond kMaxAliasExpansion repeated values; nothing for an ordinary tree.
+std::optional<TreeProblem> find_tree_problem(const YAML::Node& root);
+
 /// Replaces the nodes named by the overrides (see cases/README.md, "Command-line overrides");
 /// returns their key paths with list indices written canonically.
 std::vector<std::string> apply_overrides(YAML::Node& root, const std::vector<Override>& overrides);

@@ -140,6 +140,10 @@ std::vector<std::string> apply_overrides(YAML::Node& root, const std::vector<Ove
       fail(at_override(override_item.path),
            fmt::format("cannot read the value '{}' as YAML: {}", override_item.value, e.msg));
     }
+    if (const auto problem = find_tree_problem(value))
+      fail(at_override(override_item.path),
+           fmt::format("cannot use the value '{}': {}{}", override_item.value,
+                       problem->path.empty() ? "" : problem->path + ": ", problem->message));
     paths.push_back(assign(root, parts, value, override_item.path));
     drop_exclusive_sibling(root, paths.back());
   }

@@ -87,6 +87,20 @@ void check_spacing(const Cursor& at, double spacing, const geometry::Box& box, i
                         smallest),
             fmt::format("0 < {} <= {}", at.key(), smallest));
   }
+  // Particles are counted with 32-bit integers; a spacing that asks for more cells than that
+  // would otherwise try to fill memory (or overflow the lattice's cell counts).
+  constexpr double kMaxCells = 2147483647.0;
+  double cells = 1.0, volume = 1.0;
+  for (int a = 0; a < dim; ++a) {
+    cells *= (box.max[a] - box.min[a]) / spacing;
+    volume *= box.max[a] - box.min[a];
+  }
+  if (!(cells <= kMaxCells)) {
+    at.fail(fmt::format("{} {} makes about {:.3g} cells in this part, more than the {:.0f} "
+                        "particles a run can hold",
+                        at.key(), spacing, cells, kMaxCells),
+            fmt::format("{} >= {:.3g}", at.key(), std::pow(volume / kMaxCells, 1.0 / dim)));
+  }
 }
 
 void check_poisson(const Cursor& at, double nu, const Section& section) {

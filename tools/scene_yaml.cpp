@@ -57,6 +57,8 @@ YAML::Node parse_tree(const std::string& text, const std::string& file) {
   } catch (const YAML::ParserException& e) {
     fail(Location{file, e.mark.line + 1, ""}, fmt::format("YAML syntax error: {}", e.msg));
   }
+  if (const auto problem = detail::find_tree_problem(root))
+    fail(Location{file, problem->line, problem->path}, problem->message);
   if (!root.IsDefined() || root.IsNull()) {
     fail(Location{file, 0, ""},
          "the scene is empty; expected a map with name, dimension, materials, body and time");
