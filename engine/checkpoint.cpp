@@ -76,7 +76,9 @@ struct CheckpointAccess {
     ar(s.reach_), ar(s.max_horizon_), ar(s.appended_since_sort_);
     ar(s.parent_slot_), ar(s.child_of_slot_), ar(s.touched_);
     ar(s.time_), ar(s.dt_), ar(s.critical_dt_);
-    ar(s.external_work_), ar(s.initial_energy_), ar(s.last_power_);
+    ar(s.external_work_), ar(s.last_power_);
+    ar(s.budget_.tolerance), ar(s.budget_.initial), ar(s.budget_.mapping), ar(s.budget_.scale);
+    ar(s.conservative_), ar(s.blowup_factor_);
     ar(s.steps_), ar(s.broken_), ar(s.interaction_updates_), ar(s.generation_), ar(s.next_id_);
   }
 

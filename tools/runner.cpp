@@ -11,6 +11,7 @@
 #include <iostream>
 #include <memory>
 
+#include "engine/checkpoint.hpp"
 #include "engine/errors.hpp"
 #include "refine/refiner.hpp"
 #include "tools/frame_fields.hpp"
@@ -52,6 +53,17 @@ io::HistoryRow history_row(const Simulation& sim, const Energies& e) {
   return r;
 }
 
+/// The newest state that passed the guard's full check (Simulation::check_stable), kept in memory
+/// so an unstable run can still write it as its final frame and checkpoint. Taken at history rows
+/// at most every kLastGoodEvery steps: one copy of the state per 100 steps costs ~1-2 % of them.
+struct LastGood {
+  static constexpr std::int64_t kLastGoodEvery = 100;
+  std::vector<std::byte> simulation;
+  RunState run;
+  std::optional<measure::CrackTracker> cracks;
+  std::int64_t step = -1;
+};
+
 struct RunContext {
   const scene::Scene& scene;
   Simulation& sim;
@@ -67,6 +79,7 @@ struct RunContext {
   std::function<double()> elapsed{};  ///< wall seconds of this process
   double wall_before = 0.0;           ///< wall seconds of the runs this one continues
   bool echo = true;                   ///< a log line per checkpoint
+  LastGood good{};
 
   /// Measures the cracks at measurement steps and at the last step.
   void measure(bool last) {
@@ -86,6 +99,44 @@ struct RunContext {
       history.write(history_row(sim, e));
     }
     if (frame) write_frame();
+    if (good.step < 0 || sim.steps_done() - good.step >= LastGood::kLastGoodEvery) keep_good();
+  }
+  /// The run loop's state now (what a checkpoint of the current state saves).
+  RunState run_state() {
+    RunState st = *state;
+    st.schedule_position = schedule->position();
+    st.frames = frames.entries();
+    st.history_bytes = history.bytes();
+    st.refinement_bytes = hook ? hook->csv->bytes() : 0;
+    st.cracks_bytes = cracks ? cracks->csv.bytes() : 0;
+    st.refinement_events = hook ? hook->events : 0;
+    st.wall_seconds = wall_before + elapsed();
+    return st;
+  }
+  void keep_good() {
+    auto t = sim.timers().scope(Phase::Diagnostics);
+    good.simulation = save_simulation(sim);
+    good.run = run_state();
+    if (cracks) good.cracks = cracks->tracker;
+    good.step = sim.steps_done();
+  }
+  /// After the guard stopped the run: the last good state becomes the final frame (unless a later
+  /// good frame exists) and the checkpoint. Returns what was written, for the message.
+  std::string write_last_good() {
+    if (good.step < 0) return "";
+    load_simulation(good.simulation, sim, "the last good state");
+    if (cracks && good.cracks) cracks->tracker = *good.cracks;
+    const auto& written = frames.entries();
+    const bool good_frame = !written.empty() && written.back().first >= sim.time();
+    if (!good_frame) {
+      write_frame();
+      good.run.frames = frames.entries();
+    }
+    write_checkpoint(checkpoint_file.string(), sim, good.run, scene_text);
+    return fmt::format(
+        "; the last good state (step {}, t = {:.6g} s) is in {}{}", good.step, sim.time(),
+        checkpoint_file.string(),
+        good_frame ? " and the last frame passed the check" : " and written as the final frame");
   }
   /// Whether step k writes a checkpoint: every output.checkpoint_every steps (never for 0).
   bool checkpoint_due(std::int64_t k) const {
@@ -95,13 +146,7 @@ struct RunContext {
   /// The checkpoint of the state after the current step; it changes no state of the run.
   void checkpoint() {
     auto& st = *state;
-    st.schedule_position = schedule->position();
-    st.frames = frames.entries();
-    st.history_bytes = history.bytes();
-    st.refinement_bytes = hook ? hook->csv->bytes() : 0;
-    st.cracks_bytes = cracks ? cracks->csv.bytes() : 0;
-    st.refinement_events = hook ? hook->events : 0;
-    st.wall_seconds = wall_before + elapsed();
+    st = run_state();
     auto t = sim.timers().scope(Phase::Output);
     const auto begin = Clock::now();
     const auto bytes = write_checkpoint(checkpoint_file.string(), sim, st, scene_text);
@@ -307,8 +352,9 @@ void run_scene(const scene::Scene& s, const RunOptions& opt) {
     time_loop(ctx, progress);
   } catch (const InstabilityError& e) {
     progress.finish();
-    finish("unstable", e.what());
-    throw;
+    const std::string message = e.what() + ctx.write_last_good();
+    finish("unstable", message);
+    throw InstabilityError(message);
   } catch (const RunInterrupted& e) {
     finish("interrupted", e.what());
     throw;
