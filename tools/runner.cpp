@@ -55,7 +55,8 @@ io::HistoryRow history_row(const Simulation& sim, const Energies& e) {
 
 /// The newest state that passed the guard's full check (Simulation::check_stable), kept in memory
 /// so an unstable run can still write it as its final frame and checkpoint. Taken at history rows
-/// at most every kLastGoodEvery steps: one copy of the state per 100 steps costs ~1-2 % of them.
+/// at most every kLastGoodEvery steps (the branching plate: 5 copies and 46 history checks
+/// together take 0.1 s of a 3.9 s run).
 struct LastGood {
   static constexpr std::int64_t kLastGoodEvery = 100;
   std::vector<std::byte> simulation;
