@@ -319,5 +319,32 @@ TEST(MeasureScene, TipOutsideTheBodyIsRefusedBeforeTheRun) {
   EXPECT_NO_THROW(scene::build_simulation(scene::parse_scene(kMeasured, "m.yaml")));
 }
 
+TEST(CrackMeasure, ThroughTheThicknessOfA3DPlateTheFrontIsNotABranch) {
+  // A 12 x 10 x 8 mm block (1 mm spacing, δ = 3 mm): damage runs from a notch front along z,
+  // ahead only at the two faces (z = 0.5 and 7.5 mm, 7 mm > 2δ apart) as in a 3D plate whose
+  // faces crack first. Without `front` those are two branches; along the front they are one.
+  geometry::Box box;
+  box.max = {0.012, 0.01, 0.008};
+  Section s3;
+  s3.dim = 3;
+  auto p = test::store_from_points(geometry::fill_lattice({{box, kDx, 0}}, 3), 3, kFactor, s3);
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const double x = p.reference_position[0][i], y = p.reference_position[1][i];
+    const double z = p.reference_position[2][i];
+    const bool layer = std::abs(y - 0.0045) < 1e-6;
+    const bool front = std::abs(x - 0.0025) < 1e-6, face = z < 0.001 || z > 0.007;
+    if (layer && x > 0.002 && (front || face)) p.damage[i] = 1.0;
+  }
+  for (const bool along_front : {false, true}) {
+    Settings s;
+    Tip tip{"notch", {0.0025, 0.0045, 0.0035}, {1, 0, 0}, std::nullopt};
+    if (along_front) tip.front = Vec3{0, 0, 1};
+    s.tips = {tip};
+    CrackTracker tracker(s);
+    const auto rows = tracker.measure(p, 0, 0.0);
+    EXPECT_EQ(rows.at(0).branches, along_front ? 1 : 2);
+  }
+}
+
 }  // namespace
 }  // namespace dhpd::measure

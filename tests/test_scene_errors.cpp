@@ -373,7 +373,10 @@ const std::vector<BadScene> kBadScenes = {
      "bad.yaml:11: measure.tips.0.at: expected a list of 2 numbers (one per axis), got 3 items"},
     {"MeasureTipUnknownKey",
      plus(measured("{name: a, at: [0.5, 0.5], direction: [1, 0], dir: [1, 0]}")),
-     "bad.yaml:11: measure.tips.0.dir: unknown key 'dir' (allowed: name, at, direction)"},
+     "bad.yaml:11: measure.tips.0.dir: unknown key 'dir' (allowed: name, at, direction, front)"},
+    {"MeasureFrontIn2D",
+     plus(measured("{name: a, at: [0.5, 0.5], direction: [1, 0], front: [0, 1]}")),
+     "bad.yaml:11: measure.tips.0.front: front is the notch front's direction of a 3D scene"},
     {"MeasureWithoutFracture",
      plus("measure:\n  tips:\n    - {name: a, at: [0.5, 0.5], direction: [1, 0]}"),
      "bad.yaml:8: measure: measure follows cracks through the damage field, which needs "

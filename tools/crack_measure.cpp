@@ -67,7 +67,8 @@ class SeparatedSubset {
 /// them are pairwise farther apart than `separation` × the bin's largest horizon.
 Branches separated_clusters(const std::vector<std::int32_t>& members,
                             std::vector<std::int32_t>& root, const DamageGraph& g,
-                            const ParticleStore& p, double separation) {
+                            const ParticleStore& p, double separation,
+                            const std::optional<Vec3>& front) {
   std::map<std::int32_t, std::pair<Vec3, std::size_t>> sums;  // root -> (Σ X, count)
   double horizon = 0.0;
   for (const auto n : members) {
@@ -83,9 +84,16 @@ Branches separated_clusters(const std::vector<std::int32_t>& members,
   std::stable_sort(clusters.begin(), clusters.end(),
                    [](const auto& a, const auto& b) { return a.first > b.first; });
   if (clusters.size() > kMaxClusters) clusters.resize(kMaxClusters);
-  std::vector<Vec3> centroids;
-  for (const auto& c : clusters) centroids.push_back(c.second);
-  const std::uint32_t chosen = SeparatedSubset(centroids, separation * horizon).chosen();
+  std::vector<Vec3> centroids, apart;  // apart: separations across the front only
+  for (const auto& c : clusters) {
+    centroids.push_back(c.second);
+    apart.push_back(c.second);
+    if (front) {
+      const Vec3 f = (1.0 / geometry::norm(*front)) * *front;
+      apart.back() = c.second - geometry::dot(c.second, f) * f;
+    }
+  }
+  const std::uint32_t chosen = SeparatedSubset(apart, separation * horizon).chosen();
   Branches out;
   for (std::size_t k = 0; k < centroids.size(); ++k)
     if (chosen & (std::uint32_t{1} << k)) out.centroids.push_back(centroids[k]);
@@ -165,7 +173,7 @@ CrackPath crack_path(const DamageGraph& g, const ParticleStore& p, const Vec3& n
 }
 
 Branches count_branches(const DamageGraph& g, const CrackPath& crack, const ParticleStore& p,
-                        double separation) {
+                        double separation, const std::optional<Vec3>& front) {
   double width = 0.0;
   for (std::size_t n = 0; n < g.size(); ++n)
     if (std::isfinite(crack.path[n])) width = std::max(width, p.horizon[g.particle[n]]);
@@ -185,7 +193,7 @@ Branches count_branches(const DamageGraph& g, const CrackPath& crack, const Part
         root[find_root(root, static_cast<std::int32_t>(n))] = find_root(root, g.neighbor[l]);
   Branches best;
   for (const auto& [b, members] : bins) {
-    auto found = separated_clusters(members, root, g, p, separation);
+    auto found = separated_clusters(members, root, g, p, separation, front);
     if (found.count > best.count) best = std::move(found);
   }
   return best;
@@ -248,7 +256,7 @@ TipRow CrackTracker::measure_tip(const DamageGraph& g, const ParticleStore& p, s
   if (t.running && l - back >= *t.running && back > 0)
     t.max_speed = std::max(t.max_speed.value_or(0.0), r.speed);
   t.angle_deg = std::isnan(r.angle_deg) ? std::nullopt : std::optional<double>(r.angle_deg);
-  const Branches branches = count_branches(g, crack, p, s_.branch_separation);
+  const Branches branches = count_branches(g, crack, p, s_.branch_separation, tip.front);
   r.branches = branches.count;
   if (branches.count > std::max(t.most_branches, 1)) {  // 0 -> 1 is the crack, not a branch
     t.branch_times.push_back(time);

@@ -19,6 +19,9 @@ struct Tip {
   std::string name;
   Vec3 at{0, 0, 0};
   Vec3 direction{1, 0, 0};  ///< non-zero, need not be unit
+  /// 3D: the notch front's direction. Damage apart only along the front (e.g. at the two faces
+  /// of a plate, ahead of the middle) is one crack front, not two branches.
+  std::optional<Vec3> front;
 };
 
 /// The `measure` block of a scene (cases/README.md, `measure`).
@@ -97,7 +100,7 @@ struct Branches {
   std::vector<Vec3> centroids;
 };
 Branches count_branches(const DamageGraph& g, const CrackPath& crack, const ParticleStore& p,
-                        double separation);
+                        double separation, const std::optional<Vec3>& front = std::nullopt);
 
 /// Follows every tip over the measurements of a run. It keeps no particle index between
 /// measurements, so the store may change (refinement) from one to the next.

@@ -294,6 +294,7 @@ void emit_measure(YAML::Emitter& out, const Scene& s) {
     out << YAML::Flow << YAML::BeginMap << YAML::Key << "name" << YAML::Value << tip.name;
     emit_key_point(out, "at", tip.at, s.dimension);
     emit_key_point(out, "direction", tip.direction, s.dimension);
+    if (tip.front) emit_key_point(out, "front", *tip.front, s.dimension);
     out << YAML::EndMap;
   }
   out << YAML::EndSeq;

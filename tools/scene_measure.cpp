@@ -35,7 +35,7 @@ void read_tips(const Cursor& c, int dim, MeasureSpec& spec) {
     c.fail("give at least one notch tip", "a list of {name: ..., at: [...], direction: [...]}");
   std::vector<Location> names;
   for (const auto& item : items) {
-    const MapView map(item, {"name", "at", "direction"});
+    const MapView map(item, {"name", "at", "direction", "front"});
     const Cursor name = map.require("name");
     measure::Tip tip;
     tip.name = tip_name(name);
@@ -48,6 +48,10 @@ void read_tips(const Cursor& c, int dim, MeasureSpec& spec) {
     const Cursor at = map.require("at");
     tip.at = at.point(dim);
     tip.direction = nonzero_vector(map.require("direction"), dim);
+    if (const auto front = map.get("front")) {
+      if (dim != 3) front->fail("front is the notch front's direction of a 3D scene", "3D only");
+      tip.front = nonzero_vector(*front, dim);
+    }
     names.push_back(name.where());
     spec.tip_at.push_back(at.where());
     spec.settings.tips.push_back(std::move(tip));
