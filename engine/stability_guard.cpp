@@ -62,18 +62,20 @@ std::string likely_cause(const InstabilityFacts& f) {
 
 }  // namespace
 
+double EnergyBudget::scale_with(double external_work) const {
+  return std::max(scale, std::abs(initial) + std::abs(external_work) + std::abs(mapping));
+}
+
 void EnergyBudget::observe(double external_work) {
-  scale = std::max(scale, std::abs(initial) + std::abs(external_work) + std::abs(mapping));
+  scale = scale_with(external_work);
 }
 
 double EnergyBudget::allowed(double external_work) const {
-  const double s = std::max(scale, std::abs(initial) + std::abs(external_work) + std::abs(mapping));
-  return initial + external_work + mapping + tolerance * s;
+  return initial + external_work + mapping + tolerance * scale_with(external_work);
 }
 
 double EnergyBudget::blow_up(double external_work, double factor) const {
-  const double s = std::max(scale, std::abs(initial) + std::abs(external_work) + std::abs(mapping));
-  return factor * (1.0 + tolerance) * s;
+  return factor * (1.0 + tolerance) * scale_with(external_work);
 }
 
 double blocked_kinetic_energy(const ParticleStore& p, std::vector<double>& block_sums) {

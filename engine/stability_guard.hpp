@@ -18,6 +18,8 @@ struct EnergyBudget {
   double mapping = 0.0;     ///< energy added (or removed) by refinement events' state mapping
   double scale = 0.0;       ///< running max of initial + |W_ext| + |mapping|
 
+  /// The scale widened by this external work.
+  double scale_with(double external_work) const;
   /// Widens the scale with this external work (call once per step).
   void observe(double external_work);
   /// The energy allowed with this external work.

@@ -85,13 +85,10 @@ Branches separated_clusters(const std::vector<std::int32_t>& members,
                    [](const auto& a, const auto& b) { return a.first > b.first; });
   if (clusters.size() > kMaxClusters) clusters.resize(kMaxClusters);
   std::vector<Vec3> centroids, apart;  // apart: separations across the front only
+  const Vec3 f = front ? (1.0 / geometry::norm(*front)) * *front : Vec3{0, 0, 0};
   for (const auto& c : clusters) {
     centroids.push_back(c.second);
-    apart.push_back(c.second);
-    if (front) {
-      const Vec3 f = (1.0 / geometry::norm(*front)) * *front;
-      apart.back() = c.second - geometry::dot(c.second, f) * f;
-    }
+    apart.push_back(c.second - geometry::dot(c.second, f) * f);
   }
   const std::uint32_t chosen = SeparatedSubset(apart, separation * horizon).chosen();
   Branches out;
