@@ -76,4 +76,35 @@ TEST_F(CliStudy, RefusesAMissingFileAndABadKey) {
   EXPECT_FALSE(fs::exists(dir_ / "study" / "study.csv"));
 }
 
+TEST_F(CliStudy, MirrorTipsGiveTheReferencesOwnTipPathSpread) {
+  // Kalthoff–Winkler 2D, coarse, to 35 µs (the cracks start at 28 µs): the lattice, the notches and
+  // the load are mirror images about y = 0, so the two cracks must be (the run is exactly
+  // symmetric); the same tip against its own mirror image is 2 × its distance from y = 0 away.
+  const std::string kw = std::string(DHPD_SOURCE_DIR) + "/cases/kalthoff_winkler_2d_uniform.yaml";
+  const auto study = [&](const std::string& name, const std::string& mirror) {
+    write(name + ".yaml", "name: " + name + "\ncase: " + kw +
+                              "\nreference: {label: reference, set: {time.end: 3.5e-5}}\n"
+                              "variants:\n  - {label: same, set: {time.end: 3.5e-5}}\n"
+                              "frames: 1\nmirror: " +
+                              mirror + "\n");
+    return dhpd({"study", name + ".yaml", "-o", name});
+  };
+  const auto spread_in = [&](const std::string& name) {
+    const std::string md = read_text(dir_ / name / "study.md");
+    const auto at = md.find("Reference's own tip-path spread");
+    EXPECT_NE(at, std::string::npos) << md;
+    const auto colon = md.find("): ", at);
+    return std::stod(md.substr(colon + 3));
+  };
+  ASSERT_EQ(study("pair", "{tips: [upper, lower], axis: 1}").code, 0);
+  EXPECT_LT(spread_in("pair"), 1e-9);
+  ASSERT_EQ(study("self", "{tips: [upper, upper], axis: 1}").code, 0);
+  EXPECT_GT(spread_in("self"), 2 * 0.025);  // the upper crack lies above y = 25 mm
+  const auto bad = study("bad", "{tips: [upper], axis: 4}");
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.err.find("mirror must be {tips: [TIP, TIP], axis: 0|1|2, at: NUMBER}"),
+            std::string::npos)
+      << bad.err;
+}
+
 }  // namespace

@@ -21,6 +21,11 @@ Study file (YAML):
     threads: 2                       # optional: --threads for every run
     frames: 2                        # frames per run (default 2: only the last is compared,
                                      # so writing frames costs every variant the same little)
+    mirror: {tips: [upper, lower], axis: 1, at: 0.0}   # optional: two tips an exact solution
+                                     # makes mirror images (about the plane x[axis] = at); the
+                                     # distance between the reference's path of one and the
+                                     # mirrored path of the other is its own tip-path spread,
+                                     # the floor below which tip_path errors mean nothing
 A variant may name its own `case`, fixed `set` overrides and a `grid` of overrides whose
 cartesian product gives one run each. Metrics: angle_deg (largest |Δ angle| over the tips),
 initiation (largest |Δ t_init| / t_init,ref), tip_path (largest distance, m, from a variant's
@@ -76,7 +81,7 @@ def load_study(path):
         if key not in study:
             fail(f"{path}: missing key '{key}'")
     unknown = set(study) - {"name", "case", "reference", "variants", "error", "budget", "threads",
-                            "frames"}
+                            "frames", "mirror"}
     if unknown:
         fail(f"{path}: unknown key(s) {sorted(unknown)}")
     if study.get("error", "angle_deg") not in METRICS:
@@ -84,7 +89,33 @@ def load_study(path):
     for key in study.get("budget", {}):
         if key not in METRICS:
             fail(f"{path}: budget key '{key}' is not one of {METRICS}")
+    if "mirror" in study:
+        check_mirror(path, study["mirror"])
     return study
+
+
+def check_mirror(path, mirror):
+    ok = (isinstance(mirror, dict) and set(mirror) <= {"tips", "axis", "at"}
+          and isinstance(mirror.get("tips"), list) and len(mirror["tips"]) == 2
+          and all(isinstance(t, str) for t in mirror["tips"])
+          and mirror.get("axis") in (0, 1, 2)
+          and isinstance(mirror.get("at", 0.0), (int, float)))
+    if not ok:
+        fail(f"{path}: mirror must be {{tips: [TIP, TIP], axis: 0|1|2, at: NUMBER}}, "
+             f"not {mirror!r}")
+
+
+def mirror_spread(paths, mirror):
+    """Largest distance between one mirror tip's path and the reflected path of the other (both
+    ways); None when the run lacks either tip."""
+    a, b = (paths.get(t) for t in mirror["tips"])
+    if a is None or b is None or len(a) == 0 or len(b) == 0:
+        return None
+    axis, at = mirror["axis"], float(mirror.get("at", 0.0))
+    a_m, b_m = a.copy(), b.copy()
+    a_m[:, axis] = 2 * at - a_m[:, axis]
+    b_m[:, axis] = 2 * at - b_m[:, axis]
+    return float(max(distance_to_polyline(a, b_m).max(), distance_to_polyline(b, a_m).max()))
 
 
 def run_one(dhpd, case, overrides, out_dir, threads):
@@ -302,6 +333,13 @@ def write_outputs(study, rows, ref_row, out):
                      + " | ".join(fmt(r[m]) for m in METRICS)
                      + f" | {'yes' if i in front else ''} |")
     lines += ["", f"Error plotted: `{metric}` (pareto.png).", ""]
+    if "mirror" in study:
+        a, b = study["mirror"]["tips"]
+        spread = mirror_spread(tip_paths(ref_row["out"]), study["mirror"])
+        lines += [f"Reference's own tip-path spread ({a} against mirrored {b}): "
+                  + (f"{spread:.4g} m" if spread is not None else "not measured")
+                  + " (the two cracks are mirror images in an exact solution; a tip_path error "
+                  "below this is within the reference's own uncertainty).", ""]
     if budget:
         limits = ", ".join(f"{k} ≤ {v}" for k, v in budget.items())
         lines.append(f"Cheapest within the budget ({limits}): "
