@@ -42,6 +42,8 @@ class Writer {
   explicit Writer(bool counting = false) : counting_(counting) {}
   /// A writer that hands every piece to `sink` instead of keeping it.
   explicit Writer(std::function<void(std::span<const std::byte>)> sink) : sink_(std::move(sink)) {}
+  /// A writer that appends to `reuse` after clearing it, keeping its memory.
+  explicit Writer(std::vector<std::byte>&& reuse) : bytes_(std::move(reuse)) { bytes_.clear(); }
   template <class T>
   void operator()(const T& v) {
     if constexpr (std::is_same_v<T, std::string>) {

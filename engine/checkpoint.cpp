@@ -196,12 +196,24 @@ struct CheckpointAccess {
 };
 
 std::vector<std::byte> save_simulation(const Simulation& sim) {
+  std::vector<std::byte> out;
+  save_simulation_into(sim, out);
+  return out;
+}
+
+void save_simulation_into(const Simulation& sim, std::vector<std::byte>& out) {
+  const std::size_t n = simulation_snapshot_bytes(sim);
+  if (n > out.capacity()) std::vector<std::byte>().swap(out);
+  archive::Writer w(std::move(out));
+  w.reserve(n);
+  CheckpointAccess::save(sim, w);
+  out = std::move(w.bytes());
+}
+
+std::size_t simulation_snapshot_bytes(const Simulation& sim) {
   archive::Writer count(true);
   CheckpointAccess::save(sim, count);
-  archive::Writer w;
-  w.reserve(count.size());
-  CheckpointAccess::save(sim, w);
-  return std::move(w.bytes());
+  return count.size();
 }
 
 void load_simulation(std::span<const std::byte> bytes, Simulation& sim, const std::string& source) {

@@ -21,6 +21,11 @@ constexpr std::uint32_t kCheckpointVersion = 1;
 
 /// The in-memory snapshot of a simulation (every array as it is, row arenas included).
 std::vector<std::byte> save_simulation(const Simulation& sim);
+/// The same snapshot written over `out`, in its memory when it is large enough (else `out` is
+/// released before the new buffer is taken), so replacing a snapshot never holds two.
+void save_simulation_into(const Simulation& sim, std::vector<std::byte>& out);
+/// The size of save_simulation(sim), counted without writing it.
+std::size_t simulation_snapshot_bytes(const Simulation& sim);
 /// Overwrites `sim` (built from the same setup) with a snapshot; throws InputError naming
 /// `source` when the bytes are not a snapshot of a simulation of this setup.
 void load_simulation(std::span<const std::byte> bytes, Simulation& sim,

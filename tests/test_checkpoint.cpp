@@ -261,6 +261,27 @@ TEST(Checkpoint, StreamedFileHoldsTheBytesOfTheInMemoryCheckpoint) {
   std::filesystem::remove(path);
 }
 
+TEST(Checkpoint, SnapshotIntoAnOldOneReusesItsMemory) {
+  // The guard's last-good copy is refreshed in place: a run holds the state and one copy, never
+  // a second copy while the first is replaced.
+  auto setup = pulled_plate();
+  Stepper run(setup, false);
+  run.advance(10);
+  std::vector<std::byte> kept;
+  save_simulation_into(run.sim, kept);
+  EXPECT_EQ(kept.size(), simulation_snapshot_bytes(run.sim));
+  const std::byte* memory = kept.data();
+  run.advance(10);  // same arrays, new values: the same size
+  save_simulation_into(run.sim, kept);
+  EXPECT_EQ(kept.data(), memory);
+  EXPECT_EQ(kept, save_simulation(run.sim));
+  // A snapshot larger than the old one's memory: the old one is released first.
+  std::vector<std::byte> small(16);
+  small.shrink_to_fit();
+  save_simulation_into(run.sim, small);
+  EXPECT_EQ(small, kept);
+}
+
 TEST(Checkpoint, FingerprintFollowsTheParticles) {
   auto a = pulled_plate();
   auto b = a;

@@ -116,7 +116,7 @@ struct RunContext {
   }
   void keep_good() {
     auto t = sim.timers().scope(Phase::Diagnostics);
-    good.simulation = save_simulation(sim);
+    save_simulation_into(sim, good.simulation);  // in place: never two copies at once
     good.run = run_state();
     if (cracks) good.cracks = cracks->tracker;
     good.step = sim.steps_done();

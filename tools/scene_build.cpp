@@ -10,6 +10,7 @@
 #include <map>
 #include <set>
 
+#include "engine/checkpoint.hpp"
 #include "engine/errors.hpp"
 #include "engine/kernels.hpp"
 #include "geometry/mesh_points.hpp"
@@ -238,13 +239,9 @@ std::int64_t planned_steps(const Scene& s, double dt) {
 }
 
 double estimated_memory_bytes(const Simulation& sim) {
-  const double n = static_cast<double>(sim.particles().size());
-  const double bonds = static_cast<double>(sim.bonds().size());
-  const double rows = static_cast<double>(sim.interactions().size());
-  const double per_particle = 8.0 * (3 * 5 + 5) + 4 * 2 + 1 + 8 * 2 + 8 * 3;
-  const double per_bond = 4 + 4 + 8 + 8 + 1 + 4 + 8 + 8;  // bond list, dual id, slots
-  const double per_interaction = 4 + 8 + 8;
-  return n * per_particle + bonds * per_bond + rows * per_interaction;
+  // The state as a snapshot holds it (every array, row arenas with their spare room), twice: the
+  // run keeps the last state that passed the instability guard (runner.cpp, LastGood).
+  return 2.0 * static_cast<double>(simulation_snapshot_bytes(sim));
 }
 
 namespace {
