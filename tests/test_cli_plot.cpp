@@ -114,6 +114,25 @@ TEST_F(CliPlot, ReportMakesThePlotsAndLinksThem) {
   EXPECT_TRUE(contains(report, "no crack measurements")) << report;
 }
 
+TEST_F(CliPlot, ReportQuotesTheSceneFilesHeader) {
+  // The header comment (source, what the case shows, what to expect) opens the report; a scene
+  // without one (the plate above) gets no such section.
+  write("headed.yaml", std::string("# A plate to test the report.\n#\n# It expects 60 steps.\n") +
+                           kPlate + "# not part of the header\n");
+  const auto o = dhpd({"run", "headed.yaml", "-o", "headed", "-q"});
+  ASSERT_EQ(o.code, 0) << o.err;
+  ASSERT_EQ(dhpd({"report", "headed"}).code, 0);
+  const std::string report = read_text(dir_ / "headed" / "report.md");
+  EXPECT_TRUE(contains(report,
+                       "## About this case (the scene file's header)\n\n"
+                       "> A plate to test the report.\n>\n> It expects 60 steps.\n\n"))
+      << report;
+  EXPECT_FALSE(contains(report, "not part of the header")) << report;
+  run("plain");
+  ASSERT_EQ(dhpd({"report", "plain"}).code, 0);
+  EXPECT_FALSE(contains(read_text(dir_ / "plain" / "report.md"), "About this case"));
+}
+
 TEST_F(CliPlot, ThreeDFramesShowTheMidThicknessSlice) {
   write("block.yaml", R"(name: block
 dimension: 3

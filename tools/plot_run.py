@@ -558,6 +558,35 @@ def run_section(run):
     return [f"# {run.name}: run report", ""] + table(["", ""], rows)
 
 
+def scene_header(run):
+    """The comment lines the scene file starts with (its source, what it shows, the numbers to
+    expect), when the file is still where the run read it (as given, or beside the run's
+    folder); [] otherwise."""
+    name = run.summary.get("scene_file")
+    if not isinstance(name, str) or not name:
+        return []
+    candidates = [name, os.path.join(run.directory, os.pardir, name)]
+    path = next((c for c in candidates if os.path.isfile(c)), None)
+    if path is None:
+        return []
+    lines = []
+    with open(path, encoding="utf-8", errors="replace") as f:
+        for line in f:
+            if not line.startswith("#"):
+                break
+            lines.append(line[1:].rstrip("\n").strip())
+    return lines
+
+
+def about_section(run):
+    """The scene file's header as a quote, so the report says what the case is and expects."""
+    header = scene_header(run)
+    if not header:
+        return []
+    return ["## About this case (the scene file's header)", ""] + \
+        [f"> {line}" if line else ">" for line in header] + [""]
+
+
 def picture_key(name):
     """Frames first (by field, then k), then the fixed pictures in PICTURE_ORDER."""
     stem = os.path.splitext(name)[0]
@@ -590,7 +619,7 @@ def report(run):
     """OUT/report.md, after making the pictures when some are missing."""
     if missing_plots(run):
         plot(run)
-    text = "\n".join(run_section(run) + [""] + pictures_section(run) +
+    text = "\n".join(run_section(run) + [""] + about_section(run) + pictures_section(run) +
                      comparison_section(run.summary)) + "\n"
     path = run.path("report.md")
     with open(path + ".tmp", "w") as f:
