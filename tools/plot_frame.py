@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Render one point field of a dhpd .vtu frame to a PNG (2D scenes: x-y particles coloured by the
 field, damage on a fixed 0-1 scale; 3D: the particles of the mid-thickness slice; 1D: the field
-along x). The drawing is plot_run.py's, which `dhpd plot` uses for whole runs.
+along x). The drawing is run_frames.py's, which `dhpd plot` (plot_run.py) uses for whole runs.
 
     /usr/bin/python3 tools/plot_frame.py out/branching_plate_uniform_000020.vtu damage out/damage.png
 """
@@ -9,7 +9,9 @@ import argparse
 import os
 import sys
 
-from plot_run import InputError, read_frame, save_field_png
+import plot_run  # noqa: F401 (stops with the Debian package's name when a module is missing)
+from run_data import InputError
+from run_frames import read_frame, save_field_png
 
 
 def main():

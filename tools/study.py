@@ -38,7 +38,6 @@ import itertools
 import json
 import math
 import os
-import resource
 import subprocess
 import sys
 import time
