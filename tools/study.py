@@ -98,7 +98,9 @@ def check_mirror(path, mirror):
           and isinstance(mirror.get("tips"), list) and len(mirror["tips"]) == 2
           and all(isinstance(t, str) for t in mirror["tips"])
           and mirror.get("axis") in (0, 1, 2)
-          and isinstance(mirror.get("at", 0.0), (int, float)))
+          and isinstance(mirror.get("at", 0.0), (int, float))
+          and not isinstance(mirror.get("at", 0.0), bool)
+          and not isinstance(mirror.get("axis"), bool))
     if not ok:
         fail(f"{path}: mirror must be {{tips: [TIP, TIP], axis: 0|1|2, at: NUMBER}}, "
              f"not {mirror!r}")
