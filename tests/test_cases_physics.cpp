@@ -56,4 +56,51 @@ TEST_F(PaperCase, BranchingPlateBranchesAndBothParameterSetsAgree) {
               s->at("rayleigh_speed").get<double>());
 }
 
+TEST_F(PaperCase, AdaptivePlateRefinesItsNotchTipBeforeABondBreaks) {
+  // Children inherit their parent's broken bonds (no healing): a tip refined after its first bonds
+  // broke starts its crack at that event. The case's stretch trigger refines in time, and the
+  // adaptive initiation then follows the uniform 0.5 mm plate's; without it (stretch 10: never)
+  // the first event starts bonds broken and "initiates" the crack itself.
+  const std::string cases = std::string(DHPD_SOURCE_DIR) + "/cases/";
+  const auto first_event = [&](const std::string& out) {
+    const auto csv = read_history(dir_ / out / "refinement.csv");  // CSV with a header
+    const auto column = [&](const std::string& name) {
+      const auto at = csv.header.find(name);
+      return static_cast<std::size_t>(std::count(csv.header.begin(), csv.header.begin() + at, ','));
+    };
+    return std::pair{std::stod(csv.rows.at(0).at(column("time"))),
+                     std::stoll(csv.rows.at(0).at(column("started_broken")))};
+  };
+  const auto initiation = [&](const std::string& out) {
+    return read_json(dir_ / out / "summary.json")
+        .at("cracks")[0]
+        .at("initiation_time")
+        .get<double>();
+  };
+  ASSERT_EQ(dhpd({"run", cases + "branching_plate_uniform.yaml", "-o", "uniform", "-q"},
+                 {"time.end=9e-6"})
+                .code,
+            0);
+  ASSERT_EQ(dhpd({"run", cases + "branching_plate_adaptive.yaml", "-o", "stretch", "-q"},
+                 {"time.end=9e-6"})
+                .code,
+            0);
+  ASSERT_EQ(dhpd({"run", cases + "branching_plate_adaptive.yaml", "-o", "late", "-q"},
+                 {"time.end=9e-6", "effects.refinement.trigger.stretch=10"})
+                .code,
+            0);
+  const auto [t_stretch, broken_stretch] = first_event("stretch");
+  const auto [t_late, broken_late] = first_event("late");
+  const double uniform = initiation("uniform");
+  std::printf(
+      "first event %.2f us (%lld started broken), initiation %.2f us; without the stretch "
+      "trigger %.2f us (%lld), %.2f us; uniform 0.5 mm %.2f us\n",
+      t_stretch * 1e6, static_cast<long long>(broken_stretch), initiation("stretch") * 1e6,
+      t_late * 1e6, static_cast<long long>(broken_late), initiation("late") * 1e6, uniform * 1e6);
+  EXPECT_EQ(broken_stretch, 0);  // measured: 5.15 µs, none; initiation 7.11 µs (uniform 7.30)
+  EXPECT_NEAR(initiation("stretch"), uniform, 0.05 * uniform);
+  EXPECT_GT(broken_late, 0);  // measured: 6.87 µs, 92; the crack "starts" at that step
+  EXPECT_NEAR(initiation("late"), t_late, 1e-12);
+}
+
 }  // namespace
