@@ -171,9 +171,9 @@ void Simulation::step() {
                     time_ + dt_);
     budget_.observe(work);
     // Strain energy is ≥ 0, so the kinetic energy alone may not pass the blow-up bound.
-    if (kinetic > budget_.blow_up(work, blowup_factor_))
-      stop_unstable("kinetic energy (blow-up bound)", kinetic,
-                    budget_.blow_up(work, blowup_factor_), steps_ + 1, time_ + dt_);
+    const double blow_up = budget_.blow_up(work, blowup_factor_);
+    if (kinetic > blow_up)
+      stop_unstable("kinetic energy (blow-up bound)", kinetic, blow_up, steps_ + 1, time_ + dt_);
   }
   external_work_ = work;
   last_power_ = power;

@@ -8,11 +8,13 @@
 #include <iterator>
 #include <limits>
 #include <map>
+#include <memory>
 #include <set>
 
 #include "engine/checkpoint.hpp"
 #include "engine/errors.hpp"
 #include "engine/kernels.hpp"
+#include "engine/neighbor_search.hpp"
 #include "geometry/mesh_points.hpp"
 #include "geometry/point_checks.hpp"
 #include "geometry/points_file.hpp"
@@ -188,25 +190,28 @@ void check_tips(const Scene& s, const ParticleStore& p) {
              fmt::format("{} to {}", point_text(lo, dim), point_text(hi, dim)));
 }
 
-bool has_neighbour_within_horizon(const ParticleStore& p, std::size_t i) {
-  for (std::size_t j = 0; j < p.size(); ++j) {
-    if (j == i) continue;
-    double d2 = 0.0;
-    for (int a = 0; a < p.dim(); ++a) {
-      const double d = p.reference_position[a][j] - p.reference_position[a][i];
-      d2 += d * d;
-    }
-    if (d2 < p.horizon[i] * p.horizon[i]) return true;
-  }
-  return false;
+/// Whether some other particle lies strictly inside i's horizon (the engine's neighbour search).
+bool has_neighbour_within_horizon(const ParticleStore& p, const NeighborSearch& search,
+                                  std::size_t i, std::vector<std::int32_t>& found) {
+  search.within(i, p.horizon[i], found);
+  const auto x = point_of(p.reference_position, i);
+  return std::any_of(found.begin(), found.end(), [&](std::int32_t j) {
+    const auto d =
+        geometry::operator-(point_of(p.reference_position, static_cast<std::size_t>(j)), x);
+    return geometry::dot(d, d) < p.horizon[i] * p.horizon[i];
+  });
 }
 
 /// A particle without a neighbour in its horizon has no stiffness: refused, naming its part. (One
 /// whose neighbours all lie across pre-cracks is a free fragment from the start: allowed.)
 void check_lonely(const Scene& s, const Simulation& sim) {
   const auto& p = sim.particles();
+  std::unique_ptr<NeighborSearch> search;  // built only when a particle has no bond
+  std::vector<std::int32_t> found;
   for (std::size_t i = 0; i < p.size(); ++i) {
-    if (sim.bonds().rows.count[i] > 0 || has_neighbour_within_horizon(p, i)) continue;
+    if (sim.bonds().rows.count[i] > 0) continue;
+    if (!search) search = std::make_unique<NeighborSearch>(p.reference_position, p.dim());
+    if (has_neighbour_within_horizon(p, *search, i, found)) continue;
     const auto part = sim.setup().points.part[static_cast<std::size_t>(p.id[i])];
     fail(s.body[static_cast<std::size_t>(part)].where,
          fmt::format("the particle at {} has no neighbour inside its horizon {:.6g} m (spacing "
