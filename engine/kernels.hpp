@@ -2,6 +2,7 @@
 // Formulas: dhpd.md §3 (force), §5 (stable step), §6 (quadrature), §7 (damage); IJNME 2016 eqs.
 // 27, 44.
 #pragma once
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -10,6 +11,17 @@
 #include "engine/particles.hpp"
 
 namespace dhpd {
+
+/// Stretch of bond i→j of reference length `length` in the current configuration (dhpd.md §2),
+/// summed in the order the force and fracture kernels use, so it gives their bits.
+inline double current_stretch(const ParticleStore& p, std::size_t i, std::size_t j, double length) {
+  double l2 = 0.0;
+  for (int a = 0; a < p.dim(); ++a) {
+    const double d = p.position[a][j] - p.position[a][i];
+    l2 += d * d;
+  }
+  return std::sqrt(l2) / length - 1.0;
+}
 
 /// Overwrites `force_density` with the internal force per unit volume of every particle:
 /// f_i = Σ_k K_k β_k V_k s_k n_k, gathered row by row (no atomics, thread-count independent).

@@ -96,28 +96,36 @@ ResolvedLoads resolve_loads(const std::vector<BoundaryCondition>& bcs, const Par
   return r;
 }
 
-void update_loads_after_split(ResolvedLoads& r, const std::vector<BoundaryCondition>& bcs,
-                              const ParticleStore& p, const std::vector<std::int32_t>& reused,
-                              const std::vector<std::int32_t>& children) {
-  std::vector<std::int32_t> gone(reused);
-  std::sort(gone.begin(), gone.end());
-  auto is_gone = [&](std::int32_t i) { return std::binary_search(gone.begin(), gone.end(), i); };
-  std::size_t kept = 0;
-  for (std::size_t k = 0; k < r.loaded.size(); ++k)
-    if (!is_gone(r.loaded[k])) r.loaded[kept] = r.loaded[k], r.body_force[kept++] = r.body_force[k];
-  r.loaded.resize(kept), r.body_force.resize(kept);
-  kept = 0;
-  for (std::size_t k = 0; k < r.prescribed.size(); ++k)
-    if (!is_gone(r.prescribed[k])) {
-      r.prescribed[kept] = r.prescribed[k], r.mask[kept] = r.mask[k];
-      r.prescribed_velocity[kept++] = r.prescribed_velocity[k];
+void update_loads_after_split(ResolvedLoads& r, const std::vector<std::int32_t>& child_slot,
+                              const std::vector<std::int32_t>& parent_slot) {
+  std::vector<std::int32_t> parents(parent_slot);
+  std::sort(parents.begin(), parents.end());
+  parents.erase(std::unique(parents.begin(), parents.end()), parents.end());
+  // The parents' entries by slot: (slot, entry index).
+  auto entries_of_parents = [&](const std::vector<std::int32_t>& list) {
+    std::vector<std::pair<std::int32_t, std::size_t>> out;
+    for (std::size_t k = 0; k < list.size(); ++k)
+      if (std::binary_search(parents.begin(), parents.end(), list[k])) out.emplace_back(list[k], k);
+    std::sort(out.begin(), out.end());
+    return out;
+  };
+  const auto loaded = entries_of_parents(r.loaded);
+  const auto held = entries_of_parents(r.prescribed);
+  for (std::size_t c = 0; c < child_slot.size(); ++c) {
+    if (child_slot[c] == parent_slot[c]) continue;
+    const std::pair<std::int32_t, std::size_t> from{parent_slot[c], 0};
+    for (auto e = std::lower_bound(loaded.begin(), loaded.end(), from);
+         e != loaded.end() && e->first == parent_slot[c]; ++e) {
+      r.loaded.push_back(child_slot[c]);
+      r.body_force.push_back(r.body_force[e->second]);
     }
-  r.prescribed.resize(kept), r.mask.resize(kept), r.prescribed_velocity.resize(kept);
-  const auto& X = p.reference_position;
-  for (std::size_t c = 0; c < bcs.size(); ++c)
-    for (const auto i : children)
-      if (bcs[c].region.contains({X[0][i], X[1][i], X[2][i]}, p.dim()))
-        add_entry(r, bcs[c], c, i, p.dim());
+    for (auto e = std::lower_bound(held.begin(), held.end(), from);
+         e != held.end() && e->first == parent_slot[c]; ++e) {
+      r.prescribed.push_back(child_slot[c]);
+      r.mask.push_back(r.mask[e->second]);
+      r.prescribed_velocity.push_back(r.prescribed_velocity[e->second]);
+    }
+  }
 }
 
 void renumber_loads(ResolvedLoads& r, const std::vector<std::int32_t>& new_index) {

@@ -53,11 +53,12 @@ void apply_initial_condition(const InitialCondition& ic, ParticleStore& p);
 /// Resolves every boundary condition; throws InputError naming the condition that selects nothing.
 ResolvedLoads resolve_loads(const std::vector<BoundaryCondition>& bcs, const ParticleStore& p);
 
-/// After a split: drops the entries of `reused` slots (parents whose slot now holds a child) and
-/// adds every child in `children` that lies in a condition's region, with that condition's load.
-void update_loads_after_split(ResolvedLoads& loads, const std::vector<BoundaryCondition>& bcs,
-                              const ParticleStore& p, const std::vector<std::int32_t>& reused,
-                              const std::vector<std::int32_t>& children);
+/// After a split: every child takes over its parent's entries (a traction's body force, a
+/// prescribed velocity), so refinement changes neither the total force of a traction nor which
+/// material is held. Child k has slot child_slot[k] and its parent had slot parent_slot[k]; the
+/// first child of each parent holds the parent's slot, whose entries stay and now mean it.
+void update_loads_after_split(ResolvedLoads& loads, const std::vector<std::int32_t>& child_slot,
+                              const std::vector<std::int32_t>& parent_slot);
 
 /// Renumbers every entry: particle i becomes new_index[i].
 void renumber_loads(ResolvedLoads& loads, const std::vector<std::int32_t>& new_index);

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "engine/kernels.hpp"
 #include "geometry/predicates.hpp"
 
 namespace dhpd {
@@ -147,6 +148,11 @@ bool starts_broken(const OldGeneration& old, const OldSegments& segments, const 
   if (state != PairState::None) return state == PairState::Broken;
   const auto c = segments.crossing(xi, xj, P == Q ? P : -1, tube, P == Q);
   return P == Q ? 2 * c.broken > c.all : c.broken > 0;
+}
+
+bool starts_overstretched(const ParticleStore& p, std::size_t owner, std::size_t neighbor,
+                          double length, double owner_critical_stretch) {
+  return !p.no_fail[owner] && current_stretch(p, owner, neighbor, length) >= owner_critical_stretch;
 }
 
 std::int64_t apply_no_healing(BondList& bonds, const ParticleStore& p,

@@ -88,6 +88,14 @@ std::int64_t apply_no_healing(BondList& bonds, const ParticleStore& p,
                               const std::vector<std::uint8_t>& born, const BondList& old_bonds,
                               const ParticleStore& old_p);
 
+/// The second birth rule of an event's bonds: a new bond that no-healing leaves intact starts
+/// broken when the mapped state already stretches it to its owner's critical stretch or beyond,
+/// s = |y_j − y_i| / |ξ| − 1 ≥ s0_i (what the next fracture pass would do; decided here so that
+/// the event log counts it as `started_overstretched`). Owners flagged no_fail never start broken.
+/// The state mapping keeps this at zero where the parents' field is linear (cases/README.md).
+bool starts_overstretched(const ParticleStore& p, std::size_t owner, std::size_t neighbor,
+                          double length, double owner_critical_stretch);
+
 /// Whether the planar segments a–b and c–d cross at a single point interior to both.
 bool segments_cross_properly(const geometry::Vec3& a, const geometry::Vec3& b,
                              const geometry::Vec3& c, const geometry::Vec3& d);

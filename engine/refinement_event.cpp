@@ -54,13 +54,9 @@ SplitPlan plan_split(const ParticleStore& p, const std::vector<std::int32_t>& pa
     const std::size_t made = plan.child_position.size() - first;
     if (made == 0) continue;
     plan.dropped += (std::size_t{1} << p.dim()) - made;
-    Vec3 centroid{0, 0, 0};
-    for (std::size_t c = first; c < first + made; ++c)
-      centroid = centroid + (1.0 / static_cast<double>(made)) * plan.child_position[c];
     for (std::size_t c = first; c < first + made; ++c) {
       plan.child_parent.push_back(static_cast<std::int32_t>(plan.parents.size()));
       plan.child_slot.push_back(c == first ? q : -1);
-      plan.child_centroid.push_back(centroid);
       if (c != first) appended.push_back(c);
     }
     plan.parents.push_back(q);
@@ -74,85 +70,6 @@ SplitPlan plan_split(const ParticleStore& p, const std::vector<std::int32_t>& pa
         static_cast<std::int32_t>(plan.old_size + k);
   plan.new_size = plan.old_size + appended.size();
   return plan;
-}
-
-namespace {
-
-/// Least-squares gradient G (row-major dim × dim) of the vector field w over i's intact own
-/// bonds: G = (Σ Δw ξᵀ)(Σ ξ ξᵀ)⁻¹. False when the bonds do not span the space.
-bool field_gradient(const ParticleStore& p, const VectorArray& w, const BondList& b, std::size_t i,
-                    double G[9]) {
-  const int d = p.dim();
-  double A[3][6] = {}, B[3][3] = {};
-  for (auto k = b.begin(i); k < b.end(i); ++k) {
-    if (!b.intact[k]) continue;
-    const auto j = static_cast<std::size_t>(b.neighbor[k]);
-    double xi[3], dw[3];
-    for (int a = 0; a < d; ++a) {
-      xi[a] = p.reference_position[a][j] - p.reference_position[a][i];
-      dw[a] = w[a][j] - w[a][i];
-    }
-    for (int r = 0; r < d; ++r)
-      for (int c = 0; c < d; ++c) A[r][c] += xi[r] * xi[c], B[r][c] += dw[r] * xi[c];
-  }
-  // Invert A by Gauss-Jordan on [A | I] with partial pivoting.
-  double scale = 0.0;
-  for (int r = 0; r < d; ++r) A[r][d + r] = 1.0, scale = std::max(scale, A[r][r]);
-  for (int c = 0; c < d; ++c) {
-    int piv = c;
-    for (int r = c + 1; r < d; ++r)
-      if (std::abs(A[r][c]) > std::abs(A[piv][c])) piv = r;
-    if (!(std::abs(A[piv][c]) > 1e-12 * scale)) return false;
-    std::swap(A[c], A[piv]);
-    const double inv = 1.0 / A[c][c];
-    for (int k = 0; k < 2 * d; ++k) A[c][k] *= inv;
-    for (int r = 0; r < d; ++r)
-      if (r != c) {
-        const double f = A[r][c];
-        for (int k = 0; k < 2 * d; ++k) A[r][k] -= f * A[c][k];
-      }
-  }
-  for (int r = 0; r < d; ++r)
-    for (int c = 0; c < d; ++c) {
-      double g = 0.0;
-      for (int k = 0; k < d; ++k) g += B[r][k] * A[k][d + c];
-      G[r * 3 + c] = g;
-    }
-  return true;
-}
-
-/// w at the child: the parent's value plus the gradient times the offset from the centroid.
-Vec3 mapped(const VectorArray& w, std::size_t q, const double G[9], const Vec3& offset, int d) {
-  Vec3 out{0, 0, 0};
-  for (int r = 0; r < d; ++r) {
-    double dw = 0.0;
-    for (int c = 0; c < d; ++c) dw += G[r * 3 + c] * offset[c];
-    out[r] = w[r][q] + dw;
-  }
-  return out;
-}
-
-}  // namespace
-
-ChildState map_state(const SplitPlan& plan, StateMapping mapping, const ParticleStore& p,
-                     const BondList& bonds) {
-  ChildState s;
-  const int d = p.dim();
-  double Gu[9] = {}, Gv[9] = {};
-  std::int32_t gradient_of = -1;
-  for (std::size_t c = 0; c < plan.child_slot.size(); ++c) {
-    const auto q = static_cast<std::size_t>(plan.parents[plan.child_parent[c]]);
-    if (mapping == StateMapping::Linear && gradient_of != plan.child_parent[c]) {
-      gradient_of = plan.child_parent[c];
-      if (!field_gradient(p, p.displacement, bonds, q, Gu) ||
-          !field_gradient(p, p.velocity, bonds, q, Gv))
-        std::fill(std::begin(Gu), std::end(Gu), 0.0), std::fill(std::begin(Gv), std::end(Gv), 0.0);
-    }
-    const Vec3 offset = plan.child_position[c] - plan.child_centroid[c];
-    s.displacement.push_back(mapped(p.displacement, q, Gu, offset, d));
-    s.velocity.push_back(mapped(p.velocity, q, Gv, offset, d));
-  }
-  return s;
 }
 
 ParticleStore snapshot(ParticleStore& p, const std::vector<std::int32_t>& indices) {

@@ -10,6 +10,7 @@
 #include "engine/bonds.hpp"
 #include "engine/particles.hpp"
 #include "engine/settings.hpp"
+#include "engine/state_mapping.hpp"
 #include "geometry/crack.hpp"
 #include "geometry/shapes.hpp"
 
@@ -36,7 +37,6 @@ struct SplitPlan {
   std::vector<std::int32_t> child_parent;      ///< per child: index into `parents`
   std::vector<std::int32_t> child_slot;        ///< per child: its slot in the store
   std::vector<geometry::Vec3> child_position;  ///< per child: reference position
-  std::vector<geometry::Vec3> child_centroid;  ///< per child: centroid of its siblings
   std::size_t old_size = 0, new_size = 0;
   std::size_t dropped = 0;  ///< children not created (outside the body or across a crack)
 };
@@ -46,22 +46,6 @@ struct SplitPlan {
 /// is left unsplit.
 SplitPlan plan_split(const ParticleStore& p, const std::vector<std::int32_t>& parents,
                      const ChildFilter& filter);
-
-/// How children get their displacement and velocity.
-enum class StateMapping {
-  Copy,    ///< the parent's u and v (conserves momentum and kinetic energy exactly)
-  Linear,  ///< u and v interpolated: w_child = w_parent + G_w·(X_child − X̄), G_w the
-           ///< least-squares gradient of w over the parent's intact own bonds (copy when they do
-           ///< not span the space), X̄ the centroid of the siblings (so momentum is conserved)
-};
-
-struct ChildState {
-  std::vector<geometry::Vec3> displacement, velocity;
-};
-
-/// The children's u and v, from the store and bonds before the event.
-ChildState map_state(const SplitPlan& plan, StateMapping mapping, const ParticleStore& p,
-                     const BondList& bonds);
 
 /// The parents' fields, copied out before their slots are overwritten.
 ParticleStore snapshot(ParticleStore& p, const std::vector<std::int32_t>& indices);

@@ -62,11 +62,15 @@ struct RefinementEvent {
   std::size_t rows_touched = 0;     ///< interaction rows rewritten (owners and their neighbours)
   std::size_t bonds = 0;            ///< bonds after the event
   std::int64_t started_broken = 0;  ///< new bonds set broken by the no-healing rule
-  double seconds = 0.0;             ///< the event itself (split and incremental rebuild)
-  bool resorted = false;            ///< the store was re-sorted and compacted after the event
-  double resort_seconds = 0.0;      ///< cost of that re-sort (not in `seconds`)
-  double energy_change = 0.0;       ///< kinetic + strain energy the state mapping added (J)
-  double shadow_change = 0.0;       ///< the same for the shadow energy (new dt and forces too)
+  /// New bonds set broken because the mapped state stretched them to s0 (starts_overstretched).
+  std::int64_t started_overstretched = 0;
+  std::size_t reduced_fits = 0;  ///< parents whose mapping gradient had a reduced rank
+  std::size_t copied_fits = 0;   ///< parents with no intact bond (children copy u and v)
+  double seconds = 0.0;          ///< the event itself (split and incremental rebuild)
+  bool resorted = false;         ///< the store was re-sorted and compacted after the event
+  double resort_seconds = 0.0;   ///< cost of that re-sort (not in `seconds`)
+  double energy_change = 0.0;    ///< kinetic + strain energy the state mapping added (J)
+  double shadow_change = 0.0;    ///< the same for the shadow energy (new dt and forces too)
   /// Per child: its slot and its parent's slot before the event (slots as after the event,
   /// before any re-sort). The test of incremental = from scratch uses them.
   std::vector<std::int32_t> child_slot, parent_slot;
@@ -109,7 +113,7 @@ class Simulation {
   /// stays valid, unless the event ends with a re-sort (RefinementEvent::resorted). Refused for
   /// constant-horizon (one δ for the whole body).
   RefinementEvent apply_refinement(const std::vector<std::int32_t>& parents,
-                                   StateMapping mapping = StateMapping::Copy);
+                                   StateMapping mapping = StateMapping::Linear);
   /// Re-sorts the store in Morton order and compacts every row array (bonds keep their states).
   /// Returns the seconds it took.
   double resort();

@@ -42,7 +42,11 @@ RefinementEvent Simulation::apply_refinement(const std::vector<std::int32_t>& pa
       strain_energy_of_rows(bonds_, p_, C_, energy_rows) + kinetic_energy_of(p_, plan.parents);
   const double correction_before = verlet_correction();
   ev.parents = snapshot(p_, plan.parents);
-  const auto state = map_state(plan, mapping, p_, bonds_);
+  std::vector<std::int32_t> held(loads_.prescribed);
+  std::sort(held.begin(), held.end());
+  const auto state = map_state(plan, mapping, p_, bonds_, held);
+  out.reduced_fits = state.reduced_fits;
+  out.copied_fits = state.copied;
   ev.near = old_neighbourhood(plan);
   parent_slot_.resize(plan.new_size, -1);
   child_of_slot_.resize(plan.new_size, -1);
@@ -56,9 +60,6 @@ RefinementEvent Simulation::apply_refinement(const std::vector<std::int32_t>& pa
     child_of_slot_[static_cast<std::size_t>(s)] = static_cast<std::int32_t>(c);
     // A parent's slot holds its first child: inserting it replaces the parent in the grid.
     grid_->insert(s, plan.child_position[c], p_.spacing[static_cast<std::size_t>(s)]);
-    p_.no_fail[static_cast<std::size_t>(s)] = 0;
-    for (const auto& region : setup_.no_fail)
-      if (region.contains(plan.child_position[c], p_.dim())) p_.no_fail[s] = 1;
   }
   ev.children = plan.child_slot;
   std::sort(ev.children.begin(), ev.children.end());
@@ -98,7 +99,9 @@ void Simulation::finish_event(EventScratch& ev, RefinementEvent& out) {
   // A fixed step stays while it is stable; otherwise the scene's safety applies to the new bound.
   const bool keep_fixed = setup_.fixed_dt && *setup_.fixed_dt <= critical_dt_;
   dt_ = keep_fixed ? *setup_.fixed_dt : setup_.safety * critical_dt_;
-  update_loads_after_split(loads_, setup_.boundary_conditions, p_, plan.parents, ev.children);
+  out.child_slot = plan.child_slot;
+  for (const auto c : plan.child_parent) out.parent_slot.push_back(plan.parents[c]);
+  update_loads_after_split(loads_, out.child_slot, out.parent_slot);
   enforce_prescribed_velocity();
   internal_force_density(il_, p_, &ev.dirty);
   for (const auto i : ev.dirty) touched_[static_cast<std::size_t>(i)] = 1;
@@ -119,8 +122,6 @@ void Simulation::finish_event(EventScratch& ev, RefinementEvent& out) {
   out.dropped = plan.dropped;
   out.rows_touched = ev.dirty.size();
   out.bonds = bonds_.size();
-  out.child_slot = plan.child_slot;
-  for (const auto c : plan.child_parent) out.parent_slot.push_back(plan.parents[c]);
 }
 
 double Simulation::resort() {

@@ -97,6 +97,7 @@ void Simulation::rebuild_rows(EventScratch& ev, RefinementEvent& out) {
   const OldGeneration old{bonds_, p_, &ev.parents, &parent_slot_};
   const OldSegments segments(old, ev.near);
   const bool rule = broken_ > 0;
+  const bool fracture = setup_.effects.fracture;
   auto previous = [&](std::int32_t x) {
     const auto c = child_of_slot_[static_cast<std::size_t>(x)];
     return c < 0 ? x : plan.parents[static_cast<std::size_t>(plan.child_parent[c])];
@@ -115,9 +116,12 @@ void Simulation::rebuild_rows(EventScratch& ev, RefinementEvent& out) {
       const bool cut =
           rule && starts_broken(old, segments, point_of(X, u), point_of(X, v), previous(i),
                                 previous(j), unsplit, 0.5 * std::min(p_.spacing[u], p_.spacing[v]));
+      const bool over = !cut && fracture &&
+                        starts_overstretched(p_, u, v, rows.length[rows.neighbor.size()], s0_[u]);
       rows.neighbor.push_back(j);
-      rows.intact.push_back(cut ? 0 : 1);
+      rows.intact.push_back(cut || over ? 0 : 1);
       out.started_broken += cut ? 1 : 0;
+      out.started_overstretched += over ? 1 : 0;
     }
     rows.start.push_back(static_cast<std::int64_t>(rows.neighbor.size()));
   }

@@ -16,7 +16,7 @@ struct Settings {
   int max_level = 1;    ///< a particle at this level is never split again
   std::int64_t check_every = 10;
   std::vector<geometry::Shape> zones;  ///< refined at start, up to max_level
-  StateMapping mapping = StateMapping::Copy;
+  StateMapping mapping = StateMapping::Linear;
 };
 
 /// Adds to `marked` every particle within buffer × δ_t (reference positions) of a marked t.

@@ -34,9 +34,7 @@ std::vector<double> max_bond_stretch(const Simulation& sim) {
     for (auto k = b.begin(i); k < b.end(i); ++k) {
       if (!b.intact[k]) continue;
       const auto j = static_cast<std::size_t>(b.neighbor[k]);
-      double l2 = 0.0;
-      for (int a = 0; a < p.dim(); ++a) l2 += std::pow(p.position[a][j] - p.position[a][i], 2);
-      out[i] = std::max(out[i], std::sqrt(l2) / b.length[k] - 1.0);
+      out[i] = std::max(out[i], current_stretch(p, i, j, b.length[k]));
     }
   return out;
 }

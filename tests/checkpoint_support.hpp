@@ -57,11 +57,14 @@ inline bool wall_clock_key(const std::string& key) {
 inline std::string without_wall_clock_columns(const std::string& csv) {
   std::istringstream in(csv);
   std::string out;
+  std::vector<bool> keep;  // by the header's names: `seconds` and `resort_seconds` are wall time
   for (std::string line; std::getline(in, line);) {
     std::istringstream row(line);
-    int column = 0;
-    for (std::string cell; std::getline(row, cell, ',');)
-      if (++column != 14 && column != 16) out += cell + ",";
+    std::size_t column = 0;
+    for (std::string cell; std::getline(row, cell, ','); ++column) {
+      if (keep.size() <= column) keep.push_back(cell != "seconds" && cell != "resort_seconds");
+      if (keep[column]) out += cell + ",";
+    }
     out += "\n";
   }
   return out;

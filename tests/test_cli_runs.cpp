@@ -127,11 +127,13 @@ TEST_F(CliTest, AdaptiveRunLogsEventsAndFramesCarryLevels) {
   const auto end = summary.at("particles_end").get<long long>();
   EXPECT_GT(end, kPlateParticles);
   const auto csv = read_text(dir / "refinement.csv");
-  EXPECT_EQ(csv.rfind("generation,step,time,parents,children,dropped,particles,bonds,rows_rebuilt,"
-                      "bonds_rebuilt,rows_touched,started_broken,dt,seconds,resorted,"
-                      "resort_seconds\n",
-                      0),
-            0u)
+  EXPECT_EQ(
+      csv.rfind("generation,step,time,parents,children,dropped,particles,bonds,rows_rebuilt,"
+                "bonds_rebuilt,rows_touched,started_broken,started_overstretched,mapping_energy,"
+                "reduced_fits,dt,seconds,resorted,"
+                "resort_seconds\n",
+                0),
+      0u)
       << csv;
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), events + 1);
   const auto particles = read_history(dir / "history.csv").column(3);

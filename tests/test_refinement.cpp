@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <numeric>
 #include <random>
 #include <set>
@@ -37,52 +38,81 @@ Totals totals(Simulation& sim) {
   return t;
 }
 
-TEST(Refinement, SplitConservesMassVolumeMomentumAndKineticEnergy) {
-  auto s = plate(1e-3, 0.03, 0.02);
-  s.effects.fracture = true;
-  InitialCondition ic;
-  ic.region = Box{{0, 0, 0}, {0.03, 0.02, 0}};
-  ic.velocity = geometry::Vec3{3.0, -2.0, 0};
-  ic.gaussian_width = 0.006;
-  ic.gaussian_center = {0.012, 0.008, 0};
-  ic.strain = geometry::Vec3{2e-3, -1e-3, 0};
-  s.initial_conditions = {ic};
-  Simulation sim(s);
-  sim.run_steps(30);
-  std::mt19937 rng(7);
-  std::vector<std::int32_t> parents;
-  for (const auto i : all_particles(sim))
-    if (rng() % 3 == 0) parents.push_back(i);
-  const auto before = totals(sim);
-  const auto ev = sim.apply_refinement(parents);
-  const auto after = totals(sim);
-  EXPECT_EQ(ev.children, 4 * parents.size());
-  EXPECT_EQ(sim.generation(), 1);
-  // Naive sums over 600 → 1800 particles: the split is exact per parent, the totals agree to
-  // the round-off of summation (measured ≤ 3e-14 relative).
-  const double pscale = std::hypot(before.e.momentum[0], before.e.momentum[1]);
-  std::printf("split: relative change mass %.2e volume %.2e kinetic %.2e momentum %.2e %.2e\n",
-              after.mass / before.mass - 1, after.volume / before.volume - 1,
-              after.e.kinetic / before.e.kinetic - 1,
-              (after.e.momentum[0] - before.e.momentum[0]) / pscale,
-              (after.e.momentum[1] - before.e.momentum[1]) / pscale);
-  EXPECT_NEAR(after.mass, before.mass, 1e-12 * before.mass);
-  EXPECT_NEAR(after.volume, before.volume, 1e-12 * before.volume);
-  EXPECT_NEAR(after.e.kinetic, before.e.kinetic, 1e-12 * before.e.kinetic);
-  for (int a = 0; a < 2; ++a)
-    EXPECT_NEAR(after.e.momentum[a], before.e.momentum[a], 1e-12 * pscale);
-  // Children: inside the parent's cell, level 1, parent id, a quarter of the volume.
-  const auto& p = sim.particles();
-  ASSERT_EQ(p.size(), 3 * parents.size() + 600);
-  std::size_t children = 0;
+/// ½ Σ_c m_c |v_c − v_parent|² over the children of the last event: the kinetic energy a
+/// momentum-conserving mapping adds (Σ m_c v_c = m_q v_q makes the cross term vanish).
+double spread_energy(const ParticleStore& p, const std::map<std::int32_t, geometry::Vec3>& v_of) {
+  double e = 0.0;
   for (std::size_t k = 0; k < p.size(); ++k) {
-    if (p.parent_id[k] < 0) continue;
-    ++children;
-    EXPECT_EQ(p.level[k], 1);
-    EXPECT_DOUBLE_EQ(p.spacing[k], 0.5e-3);
-    EXPECT_DOUBLE_EQ(p.volume[k], 0.25 * 1e-6 * 1e-3);
+    const auto parent = v_of.find(p.parent_id[k]);
+    if (p.level[k] != 1 || parent == v_of.end()) continue;
+    for (int a = 0; a < 2; ++a)
+      e += 0.5 * p.density[k] * p.volume[k] * std::pow(p.velocity[a][k] - parent->second[a], 2);
   }
-  EXPECT_EQ(children, ev.children);
+  return e;
+}
+
+TEST(Refinement, SplitConservesMassVolumeMomentumAndKineticEnergy) {
+  // copy conserves kinetic energy; linear and quadratic add exactly the spread of the children's
+  // velocities about their parent's (what the resolved gradient implies) and report it.
+  for (const auto mapping : {StateMapping::Copy, StateMapping::Linear, StateMapping::Quadratic}) {
+    auto s = plate(1e-3, 0.03, 0.02);
+    s.effects.fracture = true;
+    InitialCondition ic;
+    ic.region = Box{{0, 0, 0}, {0.03, 0.02, 0}};
+    ic.velocity = geometry::Vec3{3.0, -2.0, 0};
+    ic.gaussian_width = 0.006;
+    ic.gaussian_center = {0.012, 0.008, 0};
+    ic.strain = geometry::Vec3{2e-3, -1e-3, 0};
+    s.initial_conditions = {ic};
+    Simulation sim(s);
+    sim.run_steps(30);
+    std::mt19937 rng(7);
+    std::vector<std::int32_t> parents;
+    std::map<std::int32_t, geometry::Vec3> v_of;
+    for (const auto i : all_particles(sim))
+      if (rng() % 3 == 0) {
+        parents.push_back(i);
+        v_of[sim.particles().id[i]] = point_of(sim.particles().velocity, i);
+      }
+    const auto before = totals(sim);
+    const auto ev = sim.apply_refinement(parents, mapping);
+    const auto after = totals(sim);
+    EXPECT_EQ(ev.children, 4 * parents.size());
+    EXPECT_EQ(sim.generation(), 1);
+    // Naive sums over 600 → 1800 particles: the split is exact per parent, the totals agree to
+    // the round-off of summation (measured ≤ 3e-14 relative).
+    const double pscale = std::hypot(before.e.momentum[0], before.e.momentum[1]);
+    const double spread = spread_energy(sim.particles(), v_of);
+    const double mapping_change =
+        after.e.kinetic + after.e.strain - before.e.kinetic - before.e.strain;
+    std::printf(
+        "split (%s): relative change mass %.2e volume %.2e kinetic %.2e (spread %.2e) strain "
+        "%.2e, momentum %.2e %.2e, reported mapping energy %.3e J of %.3e J\n",
+        mapping_name(mapping), after.mass / before.mass - 1, after.volume / before.volume - 1,
+        after.e.kinetic / before.e.kinetic - 1, spread / before.e.kinetic,
+        after.e.strain / before.e.strain - 1, (after.e.momentum[0] - before.e.momentum[0]) / pscale,
+        (after.e.momentum[1] - before.e.momentum[1]) / pscale, ev.energy_change, mapping_change);
+    EXPECT_NEAR(after.mass, before.mass, 1e-12 * before.mass);
+    EXPECT_NEAR(after.volume, before.volume, 1e-12 * before.volume);
+    EXPECT_NEAR(after.e.kinetic - before.e.kinetic, spread, 1e-12 * before.e.kinetic);
+    if (mapping == StateMapping::Copy) EXPECT_EQ(spread, 0.0);
+    if (mapping != StateMapping::Copy) EXPECT_GT(spread, 1e-5 * before.e.kinetic);
+    EXPECT_NEAR(ev.energy_change, mapping_change, 1e-9 * (before.e.kinetic + before.e.strain));
+    for (int a = 0; a < 2; ++a)
+      EXPECT_NEAR(after.e.momentum[a], before.e.momentum[a], 1e-12 * pscale);
+    // Children: inside the parent's cell, level 1, parent id, a quarter of the volume.
+    const auto& p = sim.particles();
+    ASSERT_EQ(p.size(), 3 * parents.size() + 600);
+    std::size_t children = 0;
+    for (std::size_t k = 0; k < p.size(); ++k) {
+      if (p.parent_id[k] < 0) continue;
+      ++children;
+      EXPECT_EQ(p.level[k], 1);
+      EXPECT_DOUBLE_EQ(p.spacing[k], 0.5e-3);
+      EXPECT_DOUBLE_EQ(p.volume[k], 0.25 * 1e-6 * 1e-3);
+    }
+    EXPECT_EQ(children, ev.children);
+  }
 }
 
 /// Indices sorted by reference position (rounded to a quarter of the fine spacing).

@@ -71,6 +71,11 @@ std::size_t expect_equals_from_scratch(const Simulation& sim, const RefinementEv
   }
   BondList fresh = build_bonds(p, sim.setup().partial_volume, sim.setup().cracks);
   apply_no_healing(fresh, p, previous, born, old_b, old_p);
+  for (std::size_t i = 0; i < p.size(); ++i)  // the second birth rule
+    for (auto k = fresh.begin(i); k < fresh.end(i); ++k)
+      if (fresh.intact[k] && starts_overstretched(p, i, static_cast<std::size_t>(fresh.neighbor[k]),
+                                                  fresh.length[k], sim.critical_stretch()[i]))
+        fresh.intact[k] = 0;
   const DualList fresh_dual = build_dual(fresh);
   const auto fresh_il =
       build_interactions(sim.setup().model, fresh, fresh_dual, p, sim.micromodulus());

@@ -53,7 +53,8 @@ namespace {
 
 constexpr const char* kRefinementHeader =
     "generation,step,time,parents,children,dropped,particles,bonds,rows_rebuilt,bonds_rebuilt,"
-    "rows_touched,started_broken,dt,seconds,resorted,resort_seconds";
+    "rows_touched,started_broken,started_overstretched,mapping_energy,reduced_fits,dt,seconds,"
+    "resorted,resort_seconds";
 
 constexpr const char* kCracksHeader =
     "step,time,tip,x,y,z,distance,path_length,speed,angle_deg,branches";
@@ -125,10 +126,12 @@ RefinementWriter::RefinementWriter(const std::string& path, bool append)
 
 void RefinementWriter::write(const RefinementRow& r) {
   write_row(out_,
-            fmt::format("{},{},{:.17g},{},{},{},{},{},{},{},{},{},{:.17g},{:.6g},{},{:.6g}\n",
+            fmt::format("{},{},{:.17g},{},{},{},{},{},{},{},{},{},{},{:.17g},{},{:.17g},{:.6g},{},"
+                        "{:.6g}\n",
                         r.generation, r.step, r.time, r.parents, r.children, r.dropped, r.particles,
                         r.bonds, r.rows_rebuilt, r.bonds_rebuilt, r.rows_touched, r.started_broken,
-                        r.dt, r.seconds, r.resorted, r.resort_seconds),
+                        r.started_overstretched, r.mapping_energy, r.reduced_fits, r.dt, r.seconds,
+                        r.resorted, r.resort_seconds),
             "refinement");
 }
 

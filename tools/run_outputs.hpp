@@ -40,6 +40,8 @@ struct RefinementRow {
   double time = 0;
   std::int64_t parents = 0, children = 0, dropped = 0, particles = 0, bonds = 0;
   std::int64_t rows_rebuilt = 0, bonds_rebuilt = 0, rows_touched = 0, started_broken = 0;
+  std::int64_t started_overstretched = 0, reduced_fits = 0;
+  double mapping_energy = 0.0;  ///< kinetic + strain energy the state mapping changed (J)
   double dt = 0, seconds = 0;
   int resorted = 0;
   double resort_seconds = 0;

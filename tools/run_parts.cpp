@@ -37,6 +37,9 @@ void RefinementHook::log(const Simulation& sim, const RefinementEvent& ev) {
   r.bonds_rebuilt = static_cast<std::int64_t>(ev.bonds_rebuilt);
   r.rows_touched = static_cast<std::int64_t>(ev.rows_touched);
   r.started_broken = ev.started_broken;
+  r.started_overstretched = ev.started_overstretched;
+  r.mapping_energy = ev.energy_change;
+  r.reduced_fits = static_cast<std::int64_t>(ev.reduced_fits);
   r.dt = sim.dt();
   r.seconds = ev.seconds;
   r.resorted = ev.resorted ? 1 : 0;
@@ -46,9 +49,10 @@ void RefinementHook::log(const Simulation& sim, const RefinementEvent& ev) {
   if (echo)
     fmt::print(
         "dhpd: refinement {} at step {} (t = {:.4g} s): {} parents -> {} children; {} "
-        "particles; {} rows, {} bonds rebuilt ({} start broken); dt = {:.4g} s; {:.4f} s{}\n",
+        "particles; {} rows, {} bonds rebuilt ({} start broken by no-healing, {} overstretched); "
+        "dt = {:.4g} s; {:.4f} s{}\n",
         r.generation, r.step, r.time, r.parents, r.children, r.particles, r.rows_rebuilt,
-        r.bonds_rebuilt, r.started_broken, r.dt, r.seconds,
+        r.bonds_rebuilt, r.started_broken, r.started_overstretched, r.dt, r.seconds,
         ev.resorted ? fmt::format(" (+ re-sort {:.4f} s)", ev.resort_seconds) : "");
 }
 

@@ -248,8 +248,7 @@ void emit_effects(YAML::Emitter& out, const Scene& s) {
   out << YAML::Key << "buffer" << YAML::Value << number_text(r.buffer);
   out << YAML::Key << "max_level" << YAML::Value << r.max_level;
   out << YAML::Key << "check_every" << YAML::Value << r.check_every;
-  out << YAML::Key << "mapping" << YAML::Value
-      << (r.mapping == StateMapping::Copy ? "copy" : "linear");
+  out << YAML::Key << "mapping" << YAML::Value << mapping_name(r.mapping);
   if (!r.zones.empty()) {
     out << YAML::Key << "zones" << YAML::Value << YAML::BeginSeq;
     for (const auto& z : r.zones) emit_region(out, z, s.dimension);
