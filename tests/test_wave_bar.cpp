@@ -110,7 +110,7 @@ double passband_energy_share(double coarse, double width) {
 // with the eq. 31 pulse (width 31.6 mm, narrower than one coarse cell). 92 % of the pulse's energy
 // lies above the coarse lattice's highest frequency (26 rad/s at c = 1 m/s), so at most 8 % can
 // enter the coarse thirds: the paper's "< 3.17 % reflected" cannot hold there. Measured: DH-PD
-// reflects 68 %, classical-variable 98 % (its fine particles have no coarse particle within
+// reflects 68 %, classical-variable 97 % (its fine particles have no coarse particle within
 // their horizon, δ_f < Δx_c / 2, so for the fine zone the interface is a free end).
 TEST(WaveReflection, PaperSpacingCoarseThirdsCannotCarryTheEq31Pulse) {
   const double fine = 1.0 / 240;
@@ -133,7 +133,7 @@ TEST(WaveReflection, PaperSpacingCoarseThirdsCannotCarryTheEq31Pulse) {
 // The DH-PD reflection is a discretisation error of first order: R ≈ κ δ_c / w with κ ≈ 0.38
 // (partial_volume none) once the coarse zone resolves the pulse, so each halving of Δx halves it
 // (35.2 % → 18.6 % → 9.4 % at L/960, L/1920, L/3840). The paper's 3.17 % then needs
-// Δx ≈ L/11,500 for the eq. 31 pulse, or, at its own spacing, a pulse 1.5 m wide (longer than
+// Δx ≈ L/11,400 for the eq. 31 pulse, or, at its own spacing, a pulse 1.5 m wide (longer than
 // the bar). Classical-variable keeps reflecting everything: its fine zone never feels the coarse.
 TEST(WaveReflection, DualHorizonReflectionIsFirstOrderInTheCoarseHorizon) {
   std::vector<double> r;
