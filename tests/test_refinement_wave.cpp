@@ -82,7 +82,7 @@ double reflection(ForceModel model) {
 }
 
 // Measured: 1.52 % for DH-PD. (Classical BB-PD gives 1.56 % here: a 2x jump under a well
-// resolved pulse is a mild test of ghost forces; the 10x bar in test_dynamics.cpp is the sharp
+// resolved pulse is a mild test of ghost forces; the 10x bar in test_wave_bar.cpp is the sharp
 // one.)
 TEST(RefinementWave, BoundaryCreatedMidRunReflectsLessThanFivePercent) {
   const double dh = reflection(ForceModel::DualHorizon);
