@@ -140,13 +140,12 @@ const std::vector<BadScene> kBadScenes = {
     {"UnknownShape",
      replace_line(6, "  - {shape: ball, min: [0, 0], max: [1, 1], spacing: 0.1, material: glass}"),
      "bad.yaml:6: body.0.shape: unknown shape 'ball' (allowed: box, disk, polygon, half-space, "
-     "union, "
-     "difference)"},
+     "union, difference, random-disks)"},
     {"ShapeOfOtherDimension",
      replace_line(6,
                   "  - {shape: sphere, center: [0, 0], radius: 1, spacing: 0.1, material: glass}"),
      "bad.yaml:6: body.0.shape: shape 'sphere' exists only in 3D scenes; this scene has dimension "
-     "2 (allowed: box, disk, polygon, half-space, union, difference)"},
+     "2 (allowed: box, disk, polygon, half-space, union, difference, random-disks)"},
     {"ShapeKeyMisspelt",
      replace_line(6, "  - {shape: disk, center: [0, 0], raduis: 1, spacing: 0.1, material: glass}"),
      "bad.yaml:6: body.0.raduis: unknown key 'raduis', did you mean 'radius'? (allowed: shape, "

@@ -227,6 +227,7 @@ TEST(Summary, WritesValidJsonWithAllKeys) {
   s.threads = 2;
   s.active_effects = {"gravity", "contact"};
   s.phases = {{"forces", 8.25}, {"output", 0.5}};
+  s.materials = {{"matrix", 80, 3000, 300, 20}, {"inclusion", 19, 1000, 45, 4}};
   dhpd::io::write_summary(path.string(), s);
 
   const auto j = nlohmann::json::parse(read_text(path));
@@ -234,7 +235,7 @@ TEST(Summary, WritesValidJsonWithAllKeys) {
        {"scene", "scene_file", "status", "message", "wall_seconds", "steps", "end_time", "dt",
         "critical_dt", "particles_start", "particles_end", "bonds", "broken_bonds",
         "bond_updates_per_second", "particle_steps_per_second", "threads", "active_effects",
-        "seconds_per_phase"}) {
+        "seconds_per_phase", "materials"}) {
     EXPECT_TRUE(j.contains(key)) << key;
   }
   EXPECT_EQ(j["scene"], s.scene_name);
@@ -243,6 +244,8 @@ TEST(Summary, WritesValidJsonWithAllKeys) {
   EXPECT_EQ(j["end_time"].get<double>(), s.end_time);
   EXPECT_EQ(j["active_effects"], (std::vector<std::string>{"gravity", "contact"}));
   EXPECT_EQ(j["seconds_per_phase"]["forces"].get<double>(), 8.25);
+  EXPECT_EQ(j["materials"]["inclusion"]["broken_bonds"].get<std::int64_t>(), 45);
+  EXPECT_EQ(j["materials"]["matrix"]["damaged_particles"].get<std::int64_t>(), 20);
   EXPECT_EQ(std::distance(fs::directory_iterator(tmp.path()), fs::directory_iterator{}), 1);
 }
 

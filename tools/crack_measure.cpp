@@ -274,6 +274,7 @@ std::vector<CrackSummary> CrackTracker::summary() const {
     c.max_speed = t.max_speed;
     c.branch_times = t.branch_times;
     c.branch_positions = t.branch_positions;
+    c.most_branches = t.most_branches;
     c.tip = t.x.empty() ? s_.tips[k].at : t.x.back();
     if (t.initiated) c.initiation_time = t.time[*t.initiated];
     if (t.running) {

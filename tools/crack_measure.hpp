@@ -67,6 +67,7 @@ struct CrackSummary {
   std::optional<double> mean_speed;       ///< path advanced since it runs / time since then
   std::vector<double> branch_times;
   std::vector<Vec3> branch_positions;  ///< the centroids of the clusters at each new branching
+  int most_branches = 0;               ///< the largest branch count of any measurement
   Vec3 tip{0, 0, 0};
 };
 

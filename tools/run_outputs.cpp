@@ -102,6 +102,7 @@ nlohmann::ordered_json crack_json(const measure::CrackSummary& c) {
   j["mean_speed"] = optional_number(c.mean_speed);
   j["branch_times"] = c.branch_times;
   j["branch_positions"] = c.branch_positions;
+  j["most_branches"] = c.most_branches;
   j["tip"] = c.tip;
   return j;
 }
@@ -170,6 +171,13 @@ void write_summary(const std::string& path, const Summary& s) {
   nlohmann::ordered_json phases = nlohmann::ordered_json::object();
   for (const PhaseSeconds& p : s.phases) phases[p.name] = p.seconds;
   j["seconds_per_phase"] = phases;
+  nlohmann::ordered_json materials = nlohmann::ordered_json::object();
+  for (const MaterialCount& m : s.materials)
+    materials[m.name] = {{"particles", m.particles},
+                         {"bonds", m.bonds},
+                         {"broken_bonds", m.broken_bonds},
+                         {"damaged_particles", m.damaged_particles}};
+  j["materials"] = materials;
   if (s.cracks) {
     j["rayleigh_speed"] = s.cracks->rayleigh_speed;
     nlohmann::ordered_json cracks = nlohmann::ordered_json::array();

@@ -82,6 +82,14 @@ struct PhaseSeconds {
   double seconds = 0;
 };
 
+/// The particles of one material at the end of a run and the bonds they own (a bond uses its
+/// owner's material, CMAME 2017 §5.2).
+struct MaterialCount {
+  std::string name;
+  std::int64_t particles = 0, bonds = 0, broken_bonds = 0;
+  std::int64_t damaged_particles = 0;  ///< particles with at least one broken bond of their own
+};
+
 struct Summary {
   std::string scene_name, scene_file, status = "completed", message;
   double wall_seconds = 0;
@@ -92,6 +100,7 @@ struct Summary {
   int threads = 1;
   std::vector<std::string> active_effects;
   std::vector<PhaseSeconds> phases;
+  std::vector<MaterialCount> materials;
   std::optional<CrackReport> cracks;  ///< with `measure` only
 };
 

@@ -23,6 +23,24 @@ std::vector<std::int64_t> frame_steps(const scene::Scene& s, std::int64_t total)
   return out;
 }
 
+std::vector<io::MaterialCount> material_counts(const scene::Scene& s, const Simulation& sim) {
+  std::vector<io::MaterialCount> counts;
+  for (const auto& m : s.materials) counts.push_back({m.name});
+  const ParticleStore& p = sim.particles();
+  const BondList& b = sim.bonds();
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    io::MaterialCount& c = counts.at(static_cast<std::size_t>(p.material[i]));
+    std::int64_t broken = 0;
+    for (auto k = b.begin(i); k < b.end(i); ++k)
+      broken += b.intact[static_cast<std::size_t>(k)] ? 0 : 1;
+    c.particles += 1;
+    c.bonds += b.end(i) - b.begin(i);
+    c.broken_bonds += broken;
+    c.damaged_particles += broken > 0 ? 1 : 0;
+  }
+  return counts;
+}
+
 void RefinementHook::log(const Simulation& sim, const RefinementEvent& ev) {
   io::RefinementRow r;
   r.generation = ev.generation;

@@ -106,6 +106,9 @@ struct CrackHook {
   io::CrackReport report() const { return {rayleigh_speed, tracker.summary(), published}; }
 };
 
+/// Per material of the scene: its particles, the bonds they own and how many of those are broken.
+std::vector<io::MaterialCount> material_counts(const scene::Scene& s, const Simulation& sim);
+
 void log_start(const scene::Scene& s, const Simulation& sim, std::int64_t steps,
                const std::filesystem::path& dir);
 void log_end(const io::Summary& sum);

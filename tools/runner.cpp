@@ -183,6 +183,7 @@ io::Summary make_summary(const scene::Scene& s, const Simulation& sim, double wa
   for (int p = 0; p < static_cast<int>(Phase::Count); ++p)
     sum.phases.push_back({std::string(phase_name(static_cast<Phase>(p))),
                           sim.timers().seconds(static_cast<Phase>(p))});
+  sum.materials = run::material_counts(s, sim);
   return sum;
 }
 

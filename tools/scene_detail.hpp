@@ -129,6 +129,8 @@ std::pair<geometry::Shape, MapView> shape_from(const Cursor& c, int dim,
                                                const std::vector<std::string>& extra);
 /// A list of `dim` numbers that is not the zero vector (the message names the key).
 geometry::Vec3 nonzero_vector(const Cursor& c, int dim);
+/// `{shape: random-disks, ...}` (scene_random_disks.cpp): the union of the disks it places.
+geometry::Shape read_random_disks(const MapView& map);
 /// A region: a map of exactly one shape's keys.
 geometry::Shape read_shape(const Cursor& c, int dim);
 /// The scene word of node `index` of a shape ("disk" in 2D, "sphere" in 3D for a ball).

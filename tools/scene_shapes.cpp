@@ -12,13 +12,15 @@ namespace {
 using geometry::Shape;
 using geometry::Vec3;
 
-const std::vector<std::string> kAllShapes{"box",     "disk",       "sphere", "cylinder",
-                                          "polygon", "half-space", "union",  "difference"};
+const std::vector<std::string> kAllShapes{"box",      "disk",       "sphere",
+                                          "cylinder", "polygon",    "half-space",
+                                          "union",    "difference", "random-disks"};
 
 /// The shape words a scene of dimension `dim` may use.
 std::vector<std::string> shapes_for(int dim) {
   if (dim == 1) return {"box", "half-space", "union", "difference"};
-  if (dim == 2) return {"box", "disk", "polygon", "half-space", "union", "difference"};
+  if (dim == 2)
+    return {"box", "disk", "polygon", "half-space", "union", "difference", "random-disks"};
   return {"box", "sphere", "cylinder", "half-space", "union", "difference"};
 }
 
@@ -28,11 +30,13 @@ std::vector<std::string> keys_of(const std::string& word) {
   if (word == "cylinder") return {"shape", "center", "axis", "radius", "height"};
   if (word == "polygon") return {"shape", "points"};
   if (word == "half-space") return {"shape", "point", "normal"};
+  if (word == "random-disks")
+    return {"shape", "min", "max", "count", "radius", "gap", "seed", "cover", "clear"};
   return {"shape", "of"};
 }
 
 int shape_dimension(const std::string& word) {
-  if (word == "disk" || word == "polygon") return 2;
+  if (word == "disk" || word == "polygon" || word == "random-disks") return 2;
   return word == "sphere" || word == "cylinder" ? 3 : 0;
 }
 
@@ -117,6 +121,7 @@ Shape shape_of(const MapView& map, const std::string& word, int dim) {
     const Vec3 point = map.require("point").point(dim);
     return Shape::half_space(point, nonzero_vector(map.require("normal"), dim));
   }
+  if (word == "random-disks") return read_random_disks(map);
   return combination(map, word, dim);
 }
 
