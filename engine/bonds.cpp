@@ -88,6 +88,7 @@ void BondList::fit_arena() {
   length.resize(n, 0.0);
   weight.resize(n, 0.0);
   intact.resize(n, 0);
+  stiffness.resize(n, 1.0);
 }
 
 BondList build_bonds(const ParticleStore& p, PartialVolume pv,

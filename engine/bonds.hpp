@@ -24,7 +24,10 @@ struct BondList {
   std::vector<double> length;        ///< |ξ| in the reference configuration
   std::vector<double> weight;        ///< partial-volume factor β_ij
   std::vector<std::uint8_t> intact;  ///< μ_ij: 1 until the bond breaks, never healed
-  std::int64_t live = 0;             ///< bonds in live rows
+  /// 1 + λ_b: the factor on the bond's stiffness that makes level interfaces consistent
+  /// (engine/interface_consistency.hpp); 1 away from horizon jumps.
+  std::vector<double> stiffness;
+  std::int64_t live = 0;  ///< bonds in live rows
 
   std::size_t size() const { return static_cast<std::size_t>(live); }
   std::size_t slots() const { return neighbor.size(); }

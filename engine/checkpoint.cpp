@@ -63,7 +63,7 @@ struct CheckpointAccess {
   static void members(Sim& s, Ar& ar) {
     rows(s.bonds_.rows, ar);
     ar(s.bonds_.owner), ar(s.bonds_.neighbor), ar(s.bonds_.length), ar(s.bonds_.weight);
-    ar(s.bonds_.intact), ar(s.bonds_.live);
+    ar(s.bonds_.intact), ar(s.bonds_.stiffness), ar(s.bonds_.live);
     rows(s.dual_.rows, ar);
     ar(s.dual_.bond);
     rows(s.il_.rows, ar);
@@ -178,8 +178,8 @@ struct CheckpointAccess {
     const auto& l = s.loads_;
     const bool ok = rows_fit(b.rows, s.p_.size(), slots) && b.owner.size() == slots &&
                     b.length.size() == slots && b.weight.size() == slots &&
-                    b.intact.size() == slots && in_range(b.owner, -1, n) &&
-                    in_range(b.neighbor, -1, n) &&
+                    b.intact.size() == slots && b.stiffness.size() == slots &&
+                    in_range(b.owner, -1, n) && in_range(b.neighbor, -1, n) &&
                     rows_fit(s.dual_.rows, s.p_.size(), s.dual_.bond.size()) &&
                     in_range(s.dual_.bond, -1, static_cast<std::int64_t>(slots)) &&
                     rows_fit(s.il_.rows, s.p_.size(), s.il_.other.size()) &&

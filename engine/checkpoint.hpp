@@ -17,7 +17,7 @@
 
 namespace dhpd {
 
-constexpr std::uint32_t kCheckpointVersion = 1;
+constexpr std::uint32_t kCheckpointVersion = 2;  // 2: bonds carry their stiffness factor
 
 /// The in-memory snapshot of a simulation (every array as it is, row arenas included).
 std::vector<std::byte> save_simulation(const Simulation& sim);

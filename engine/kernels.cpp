@@ -98,7 +98,7 @@ double row_energy(const BondList& bonds, const ParticleStore& p, const std::vect
     if (!bonds.intact[b]) continue;
     const auto j = bonds.neighbor[b];
     const double s = bond_stretch<Dim>(p, static_cast<std::int32_t>(i), j, bonds.length[b]);
-    w += s * s * bonds.length[b] * bonds.weight[b] * p.volume[j];
+    w += s * s * bonds.length[b] * bonds.weight[b] * bonds.stiffness[b] * p.volume[j];
   }
   return 0.5 * C[i] * w;
 }

@@ -19,6 +19,8 @@ Simulation::Simulation(const SimulationSetup& setup) : setup_(setup), p_(setup.s
     init_particles();
     bonds_ = build_bonds(p_, setup_.partial_volume, setup_.cracks);
     dual_ = build_dual(bonds_);
+    if (corrects_interfaces())
+      initial_interfaces_ = correct_level_interfaces(bonds_, dual_, p_, C_, {});
     il_ = build_interactions(setup_.model, bonds_, dual_, p_, C_);
   }
   particle_time_steps(il_, p_, particle_dt_);

@@ -7,6 +7,7 @@
 
 #include "engine/bonds.hpp"
 #include "engine/interactions.hpp"
+#include "engine/interface_consistency.hpp"
 #include "engine/loads.hpp"
 #include "engine/material_law.hpp"
 #include "engine/particles.hpp"
@@ -50,6 +51,10 @@ struct SimulationSetup {
   /// The instability guard stops a run whose kinetic + strain energy exceeds initial + external
   /// work + refinement mapping by more than this fraction of their scale (EnergyBudget).
   double energy_tolerance = 0.01;
+  /// Stiffness factors on the bonds near horizon jumps so that a homogeneous deformation puts no
+  /// force there (interface_consistency.hpp; dual-horizon only). Off: the papers' DH-PD, whose
+  /// level interfaces carry a force layer about 0.4 times a free surface's.
+  bool interface_correction = true;
 };
 
 /// What one refinement event did (Simulation::apply_refinement).
@@ -64,13 +69,14 @@ struct RefinementEvent {
   std::int64_t started_broken = 0;  ///< new bonds set broken by the no-healing rule
   /// New bonds set broken because the mapped state stretched them to s0 (starts_overstretched).
   std::int64_t started_overstretched = 0;
-  std::size_t reduced_fits = 0;  ///< parents whose mapping gradient had a reduced rank
-  std::size_t copied_fits = 0;   ///< parents with no intact bond (children copy u and v)
-  double seconds = 0.0;          ///< the event itself (split and incremental rebuild)
-  bool resorted = false;         ///< the store was re-sorted and compacted after the event
-  double resort_seconds = 0.0;   ///< cost of that re-sort (not in `seconds`)
-  double energy_change = 0.0;    ///< kinetic + strain energy the state mapping added (J)
-  double shadow_change = 0.0;    ///< the same for the shadow energy (new dt and forces too)
+  InterfaceCorrection interfaces;  ///< the stiffness factors the event solved for
+  std::size_t reduced_fits = 0;    ///< parents whose mapping gradient had a reduced rank
+  std::size_t copied_fits = 0;     ///< parents with no intact bond (children copy u and v)
+  double seconds = 0.0;            ///< the event itself (split and incremental rebuild)
+  bool resorted = false;           ///< the store was re-sorted and compacted after the event
+  double resort_seconds = 0.0;     ///< cost of that re-sort (not in `seconds`)
+  double energy_change = 0.0;      ///< kinetic + strain energy the state mapping added (J)
+  double shadow_change = 0.0;      ///< the same for the shadow energy (new dt and forces too)
   /// Per child: its slot and its parent's slot before the event (slots as after the event,
   /// before any re-sort). The test of incremental = from scratch uses them.
   std::vector<std::int32_t> child_slot, parent_slot;
@@ -128,6 +134,8 @@ class Simulation {
   const std::vector<double>& micromodulus() const { return C_; }
   const std::vector<double>& critical_stretch() const { return s0_; }
   const SimulationSetup& setup() const { return setup_; }
+  /// What the interface correction did when the simulation was built.
+  const InterfaceCorrection& initial_interfaces() const { return initial_interfaces_; }
   const PhaseTimers& timers() const { return timers_; }
   PhaseTimers& timers() { return timers_; }
 
@@ -153,6 +161,10 @@ class Simulation {
   std::vector<std::int32_t> owners_to_rebuild(const SplitPlan& plan) const;
   void rebuild_rows(EventScratch& ev, RefinementEvent& out);
   void finish_event(EventScratch& ev, RefinementEvent& out);
+  bool corrects_interfaces() const;
+  /// The correction over `dirty` and its bond partners; returns that region.
+  std::vector<std::int32_t> correct_interfaces_near(const std::vector<std::int32_t>& dirty,
+                                                    RefinementEvent& out);
   void enforce_prescribed_velocity();
   double boundary_power() const;
   /// Throws InstabilityError; a NaN `energy` reports a non-finite state.
@@ -186,6 +198,7 @@ class Simulation {
   std::int64_t steps_ = 0, broken_ = 0, interaction_updates_ = 0;
   std::int64_t generation_ = 0;
   std::int32_t next_id_ = 0;
+  InterfaceCorrection initial_interfaces_;
 };
 
 }  // namespace dhpd

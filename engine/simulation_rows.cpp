@@ -46,7 +46,9 @@ std::vector<std::int32_t> Simulation::event_energy_rows(const SplitPlan& plan) c
   // Rows whose energy an event can change: the parents' and their neighbours' (owners of bonds on
   // a parent lie within a horizon of it), and those reaching a child (within a cell of its parent).
   std::vector<std::int32_t> rows, found;
-  const double widest = (max_horizon_ + reach_) * (1.0 + 1e-9);
+  // With the interface correction the factors of bonds up to two more bond lengths out change.
+  const double widest =
+      (corrects_interfaces() ? 3.0 : 1.0) * (max_horizon_ + reach_) * (1.0 + 1e-9);
   for (const auto q : plan.parents) {
     const auto u = static_cast<std::size_t>(q);
     grid_->within(point_of(p_.reference_position, u), widest + 2.0 * p_.spacing[u], found);
@@ -154,6 +156,7 @@ void Simulation::rebuild_rows(EventScratch& ev, RefinementEvent& out) {
       bonds_.neighbor[b] = rows.neighbor[r];
       bonds_.length[b] = rows.length[r];
       bonds_.weight[b] = rows.weight[r];
+      bonds_.stiffness[b] = 1.0;  // set by the interface correction (finish_event)
       bonds_.intact[b] = rows.intact[r];
       broken_ += rows.intact[r] ? 0 : 1;
       dual_.add(static_cast<std::size_t>(rows.neighbor[r]), static_cast<BondId>(b));

@@ -58,4 +58,37 @@ bool is_planar(const Crack& crack, double rel_tol) {
   return true;
 }
 
+std::vector<CrackFront> crack_fronts(const Crack& crack, int dim, double step,
+                                     const std::function<bool(const Vec3&)>& inside) {
+  std::vector<CrackFront> out;
+  const auto& p = crack.points;
+  if (dim == 2) {
+    for (int e = 0; e < 2; ++e) {
+      const Vec3 end = p[static_cast<std::size_t>(e)], from = p[static_cast<std::size_t>(1 - e)];
+      const Vec3 out_dir = (1.0 / norm(end - from)) * (end - from);
+      if (inside(end + step * out_dir)) out.push_back({end, end});
+    }
+    return out;
+  }
+  Vec3 centroid{0, 0, 0}, normal{0, 0, 0};
+  for (const auto& q : p) centroid = centroid + (1.0 / static_cast<double>(p.size())) * q;
+  for (std::size_t k = 0; k < p.size(); ++k)
+    normal = normal + cross(p[k] - centroid, p[(k + 1) % p.size()] - centroid);
+  for (std::size_t k = 0; k < p.size(); ++k) {
+    const Vec3 a = p[k], b = p[(k + 1) % p.size()], mid = 0.5 * (a + b);
+    Vec3 out_dir = cross(b - a, normal);
+    if (dot(out_dir, mid - centroid) < 0) out_dir = -1.0 * out_dir;
+    out_dir = (1.0 / norm(out_dir)) * out_dir;
+    if (inside(mid + step * out_dir)) out.push_back({a, b});
+  }
+  return out;
+}
+
+double distance_to(const CrackFront& f, const Vec3& x) {
+  const Vec3 ab = f.b - f.a;
+  const double len2 = dot(ab, ab);
+  const double t = len2 > 0.0 ? std::clamp(dot(x - f.a, ab) / len2, 0.0, 1.0) : 0.0;
+  return norm(x - (f.a + t * ab));
+}
+
 }  // namespace dhpd::geometry

@@ -10,6 +10,16 @@
 
 namespace dhpd::refine {
 
+/// The triggers of a scene that names none (cases/README.md, `effects.refinement`): cracks
+/// (φ ≥ 0.05) and, within three horizons of a crack front, bonds at half their critical stretch.
+inline Triggers default_triggers() {
+  Triggers t;
+  t.damage = 0.05;
+  t.stretch = 0.5;
+  t.near_crack = 3.0;
+  return t;
+}
+
 struct Settings {
   Triggers trigger;
   double buffer = 1.0;  ///< particles within buffer × δ_t of a triggered particle t split too

@@ -3,8 +3,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 
 #include "engine/kernels.hpp"
+#include "engine/neighbor_search.hpp"
 
 namespace dhpd::refine {
 
@@ -20,7 +22,8 @@ std::vector<double> critical_energy_density(const Simulation& sim) {
     }
     double w = 0.0;
     for (auto k = b.begin(i); k < b.end(i); ++k)
-      w += b.length[k] * b.weight[k] * p.volume[static_cast<std::size_t>(b.neighbor[k])];
+      w += b.length[k] * b.weight[k] * b.stiffness[k] *
+           p.volume[static_cast<std::size_t>(b.neighbor[k])];
     out[i] = 0.5 * sim.micromodulus()[i] * s0 * s0 * w;
   }
   return out;
@@ -36,6 +39,48 @@ std::vector<double> max_bond_stretch(const Simulation& sim) {
       const auto j = static_cast<std::size_t>(b.neighbor[k]);
       out[i] = std::max(out[i], current_stretch(p, i, j, b.length[k]));
     }
+  return out;
+}
+
+std::vector<std::uint8_t> near_a_crack(const Simulation& sim, double horizons,
+                                       std::vector<std::uint8_t> asked) {
+  const auto& p = sim.particles();
+  const int dim = p.dim();
+  const auto& body = sim.setup().body;
+  double step = HUGE_VAL;
+  for (const double h : p.spacing) step = std::min(step, 0.25 * h);
+  std::vector<geometry::CrackFront> fronts;
+  for (const auto& c : sim.setup().cracks) {
+    const auto f = geometry::crack_fronts(
+        c, dim, step, [&](const geometry::Vec3& x) { return !body || body->contains(x, dim); });
+    fronts.insert(fronts.end(), f.begin(), f.end());
+  }
+  // Damaged particles first, then every particle: a query around particle i finds the damaged
+  // ones among the indices below `damaged`.
+  VectorArray points;
+  std::size_t damaged = 0;
+  for (int pass = 0; pass < 2; ++pass)
+    for (std::size_t i = 0; i < p.size(); ++i)
+      if (pass == 1 || p.damage[i] >= kFrontDamage) {
+        for (int a = 0; a < 3; ++a) points[a].push_back(p.reference_position[a][i]);
+        damaged += pass == 0 ? 1 : 0;
+      }
+  auto& out = asked;
+  const std::unique_ptr<NeighborSearch> search =
+      damaged > 0 ? std::make_unique<NeighborSearch>(points, dim) : nullptr;
+  std::vector<std::int32_t> found;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (!out[i]) continue;
+    const double reach = horizons * p.horizon[i];
+    const auto x = point_of(p.reference_position, i);
+    bool near = false;
+    for (const auto& f : fronts) near = near || geometry::distance_to(f, x) <= reach;
+    if (!near && search) {
+      search->within(damaged + i, reach, found);
+      near = !found.empty() && found.front() < static_cast<std::int32_t>(damaged);
+    }
+    out[i] = near ? 1 : 0;
+  }
   return out;
 }
 
@@ -56,8 +101,14 @@ std::vector<std::uint8_t> triggered(Simulation& sim, const Triggers& t) {
   }
   if (t.stretch) {
     const auto s = max_bond_stretch(sim);
+    std::vector<std::uint8_t> over(n, 0);
     for (std::size_t i = 0; i < n; ++i)
-      if (s[i] >= *t.stretch * sim.critical_stretch()[i]) out[i] = 1;
+      over[i] = !out[i] && s[i] >= *t.stretch * sim.critical_stretch()[i] ? 1 : 0;
+    if (t.near_crack) {
+      if (!t.damage) sim.update_damage();
+      over = near_a_crack(sim, *t.near_crack, std::move(over));
+    }
+    for (std::size_t i = 0; i < n; ++i) out[i] = out[i] || over[i];
   }
   return out;
 }

@@ -15,8 +15,21 @@ struct Triggers {
   std::optional<double> damage;   ///< φ_i ≥ φ*
   std::optional<double> energy;   ///< W_i ≥ w* · W_crit,i
   std::optional<double> stretch;  ///< max over intact own bonds of s ≥ s* · s0_i
+  /// The stretch trigger counts only within this many horizons (δ_i) of a crack front: a
+  /// pre-crack's end or edge inside the body, or a particle damaged to kFrontDamage. So a notch
+  /// tip is refined before its first bond breaks, but not an impact zone far from any crack.
+  std::optional<double> near_crack;
   bool any() const { return damage || energy || stretch; }
 };
+
+/// Damage that makes a particle part of a running crack's front for `near_crack`.
+inline constexpr double kFrontDamage = 0.2;
+
+/// Of the particles marked in `asked`, 1 for those within `horizons` × δ_i of a crack front
+/// (pre-crack fronts of the setup's cracks, particles with φ ≥ kFrontDamage; damage as last
+/// computed), 0 for the others.
+std::vector<std::uint8_t> near_a_crack(const Simulation& sim, double horizons,
+                                       std::vector<std::uint8_t> asked);
 
 /// W_crit,i: the DH-PD strain-energy density of particle i when every bond of its horizon is at
 /// its critical stretch, Σ_j ½ C_i s0_i² |ξ_ij| β_ij V_j over all its own bonds (broken ones

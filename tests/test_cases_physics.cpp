@@ -59,8 +59,8 @@ TEST_F(PaperCase, BranchingPlateBranchesAndBothParameterSetsAgree) {
 TEST_F(PaperCase, AdaptivePlateRefinesItsNotchTipBeforeABondBreaks) {
   // Children inherit their parent's broken bonds (no healing): a tip refined after its first bonds
   // broke starts its crack at that event. The case's stretch trigger refines in time, and the
-  // adaptive initiation then follows the uniform 0.5 mm plate's; without it (stretch 10: never)
-  // the first event starts bonds broken and "initiates" the crack itself.
+  // adaptive initiation then follows the uniform 0.5 mm plate's; without it (damage and energy
+  // only) the first event starts bonds broken and "initiates" the crack itself.
   const std::string cases = std::string(DHPD_SOURCE_DIR) + "/cases/";
   const auto first_event = [&](const std::string& out) {
     const auto csv = read_history(dir_ / out / "refinement.csv");  // CSV with a header
@@ -86,7 +86,7 @@ TEST_F(PaperCase, AdaptivePlateRefinesItsNotchTipBeforeABondBreaks) {
                 .code,
             0);
   ASSERT_EQ(dhpd({"run", cases + "branching_plate_adaptive.yaml", "-o", "late", "-q"},
-                 {"time.end=9e-6", "effects.refinement.trigger.stretch=10"})
+                 {"time.end=9e-6", "effects.refinement.trigger={damage: 0.05, energy: 0.5}"})
                 .code,
             0);
   const auto [t_stretch, broken_stretch] = first_event("stretch");

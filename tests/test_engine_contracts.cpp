@@ -84,8 +84,9 @@ TEST(MultipleMaterials, EachBondUsesItsOwnersMaterialInBothViews) {
       const auto j = static_cast<std::size_t>(b.neighbor[k]);
       const auto& own = sim.setup().materials[static_cast<std::size_t>(p.material[i])];
       const double C = micromodulus(own, sim.setup().section, p.horizon[i]);
-      EXPECT_DOUBLE_EQ(rows.coefficient[rows.own_slot[k]], C * b.weight[k] * p.volume[j]);
-      EXPECT_DOUBLE_EQ(rows.coefficient[rows.dual_slot[k]], C * b.weight[k] * p.volume[i]);
+      const double K = C * b.weight[k] * b.stiffness[k];  // stiffness: interface correction
+      EXPECT_DOUBLE_EQ(rows.coefficient[rows.own_slot[k]], K * p.volume[j]);
+      EXPECT_DOUBLE_EQ(rows.coefficient[rows.dual_slot[k]], K * p.volume[i]);
       EXPECT_EQ(sim.critical_stretch()[i],
                 critical_stretch(own, sim.setup().section, p.horizon[i]));
       mixed += p.material[i] != p.material[j];

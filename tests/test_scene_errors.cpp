@@ -310,8 +310,14 @@ const std::vector<BadScene> kBadScenes = {
     {"UnknownEffect", plus("effects: {refinment: false}"),
      "bad.yaml:8: effects.refinment: unknown key 'refinment', did you mean 'refinement'? "
      "(allowed: fracture, refinement)"},
-    {"RefinementTrue", plus("effects: {refinement: true}"),
-     "bad.yaml:8: effects.refinement: refinement: true says nothing about where to refine"},
+    {"RefinementTriggerAboveOne", plus("effects:\n  refinement: {trigger: {damage: 1.5}}"),
+     "bad.yaml:9: effects.refinement.trigger.damage: damage is a fraction, got 1.5 (a particle "
+     "never reaches it) (allowed: 0 < value <= 1)"},
+    {"RefinementNearCrackAlone", plus("effects:\n  refinement: {trigger: {near_crack: 2}}"),
+     "bad.yaml:9: effects.refinement.trigger.near_crack: near_crack limits the stretch trigger, "
+     "which is not given (allowed: stretch with it)"},
+    {"RefinementUnknownMapping", plus("effects:\n  refinement: {mapping: cubic}"),
+     "bad.yaml:9: effects.refinement.mapping: "},
     {"RefinementUnknownKey", plus("effects:\n  refinement: {trigger: {damage: 0.1}, bufer: 1}"),
      "bad.yaml:9: effects.refinement.bufer: unknown key 'bufer', did you mean 'buffer'?"},
     {"RefinementUnknownTrigger", plus("effects:\n  refinement:\n    trigger: {damag: 0.1}"),
@@ -332,8 +338,11 @@ const std::vector<BadScene> kBadScenes = {
     {"RefinementMappingWord",
      plus("effects:\n  refinement: {trigger: {damage: 0.1}, mapping: linar}"),
      "bad.yaml:9: effects.refinement.mapping: unknown mapping 'linar', did you mean 'linear'?"},
-    {"RefinementNothingToDo", plus("effects:\n  refinement: {buffer: 2}"),
-     "bad.yaml:9: effects.refinement: refinement needs a trigger or zones"},
+    {"InterfacesConsistentOnAMesh",
+     replace_line(
+         6, "  - {shape: box, min: [0, 0], max: [1, 1], mesh: {size: 0.2}, material: glass}") +
+         "interfaces: consistent\n",
+     "interfaces: consistent corrects the level jumps of lattice parts, but body.0"},
     {"RefinementOfMesh",
      replace_line(
          6, "  - {shape: box, min: [0, 0], max: [1, 1], mesh: {size: 0.2}, material: glass}") +

@@ -134,6 +134,8 @@ struct Scene {
   double horizon_factor = 3.015;
   ForceModel model = ForceModel::DualHorizon;
   PartialVolume partial_volume = PartialVolume::None;
+  /// `interfaces`: consistent (true) or paper (false); absent: consistent_interfaces() decides.
+  std::optional<bool> interfaces;
   std::vector<LocatedCrack> cracks;
   std::vector<Region> no_fail;
   std::vector<LocatedInitialCondition> initial_conditions;
@@ -159,6 +161,10 @@ Scene load_scene(const std::string& file, const std::vector<Override>& overrides
 /// Same from text (for tests); `file` only names the source in messages.
 Scene parse_scene(const std::string& text, const std::string& file,
                   const std::vector<Override>& overrides = {});
+
+/// Whether level jumps get the interface correction (SimulationSetup::interface_correction): as
+/// the scene says, else for dual-horizon scenes whose parts are all lattices.
+bool consistent_interfaces(const Scene& scene);
 
 /// The scene with every default filled in, as YAML text (the start of scene.resolved.yaml).
 std::string resolved_yaml(const Scene& scene);

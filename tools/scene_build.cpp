@@ -109,6 +109,13 @@ void check_points(const Scene& s, const geometry::PointSet& pts) {
 
 }  // namespace
 
+bool consistent_interfaces(const Scene& s) {
+  if (s.interfaces) return *s.interfaces;
+  return s.model == ForceModel::DualHorizon &&
+         std::all_of(s.body.begin(), s.body.end(),
+                     [](const BodyPart& p) { return p.kind == PartKind::Lattice; });
+}
+
 SimulationSetup build_setup(const Scene& s) {
   SimulationSetup setup;
   setup.section.dim = s.dimension;
@@ -117,6 +124,7 @@ SimulationSetup build_setup(const Scene& s) {
   setup.section.area = s.area;
   setup.model = s.model;
   setup.partial_volume = s.partial_volume;
+  setup.interface_correction = consistent_interfaces(s);
   setup.horizon_factor = s.horizon_factor;
   for (const auto& m : s.materials) setup.materials.push_back(m.law);
   setup.points = body_points(s);

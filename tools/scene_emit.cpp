@@ -243,6 +243,8 @@ void emit_effects(YAML::Emitter& out, const Scene& s) {
       out << YAML::Key << "energy" << YAML::Value << number_text(*r.trigger.energy);
     if (r.trigger.stretch)
       out << YAML::Key << "stretch" << YAML::Value << number_text(*r.trigger.stretch);
+    if (r.trigger.near_crack)
+      out << YAML::Key << "near_crack" << YAML::Value << number_text(*r.trigger.near_crack);
     out << YAML::EndMap;
   }
   out << YAML::Key << "buffer" << YAML::Value << number_text(r.buffer);
@@ -323,6 +325,8 @@ std::string resolved_yaml(const Scene& s) {
       << "factor" << YAML::Value << number_text(s.horizon_factor) << YAML::EndMap;
   out << YAML::Key << "model" << YAML::Value << std::string(to_string(s.model));
   out << YAML::Key << "partial_volume" << YAML::Value << std::string(to_string(s.partial_volume));
+  out << YAML::Key << "interfaces" << YAML::Value
+      << (consistent_interfaces(s) ? "consistent" : "paper");
   emit_cracks_and_no_fail(out, s);
   emit_initial_conditions(out, s);
   if (!s.boundary_conditions.empty()) {

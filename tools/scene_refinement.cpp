@@ -11,12 +11,26 @@ const char* part_kind_word(PartKind k) {
   return k == PartKind::Mesh ? "a mesh part" : "a points-file part";
 }
 
+/// A threshold in (0, 1]: damage and stretch relative to s0 cannot be reached above 1.
+double fraction_up_to_one(const Cursor& c, std::string_view what) {
+  const double v = positive_number(c);
+  if (v > 1.0)
+    c.fail(fmt::format("{} is a fraction, got {} (a particle never reaches it)", what, c.text()),
+           "0 < value <= 1");
+  return v;
+}
+
 refine::Triggers read_triggers(const Cursor& c) {
-  const MapView m(c, {"damage", "energy", "stretch"});
+  const MapView m(c, {"damage", "energy", "stretch", "near_crack"});
   refine::Triggers t;
-  if (const auto v = m.get("damage")) t.damage = positive_number(*v);
+  if (const auto v = m.get("damage")) t.damage = fraction_up_to_one(*v, "damage");
   if (const auto v = m.get("energy")) t.energy = positive_number(*v);
-  if (const auto v = m.get("stretch")) t.stretch = positive_number(*v);
+  if (const auto v = m.get("stretch")) t.stretch = fraction_up_to_one(*v, "stretch (of s0)");
+  if (const auto v = m.get("near_crack")) {
+    if (!t.stretch)
+      v->fail("near_crack limits the stretch trigger, which is not given", "stretch with it");
+    t.near_crack = positive_number(*v);
+  }
   if (!t.any()) c.fail("trigger needs at least one threshold", "damage, energy, stretch");
   return t;
 }
@@ -39,15 +53,17 @@ void check_refinable(const Cursor& c, const Scene& s) {
 }  // namespace
 
 std::optional<RefinementSpec> read_refinement(const Cursor& c, const Scene& s) {
-  if (c.node().IsScalar()) {
-    if (!c.boolean()) return std::nullopt;
-    c.fail("refinement: true says nothing about where to refine; give a map",
-           "false, or {trigger: {damage, energy, stretch}, buffer, max_level, check_every, zones, "
-           "mapping}");
-  }
-  const MapView m(c, {"trigger", "buffer", "max_level", "check_every", "zones", "mapping"});
   RefinementSpec r;
   r.where = c.where();
+  r.settings.trigger = refine::default_triggers();
+  if (c.node().IsScalar()) {  // `refinement: true`: every default
+    if (!c.boolean()) return std::nullopt;
+    check_refinable(c, s);
+    return r;
+  }
+  const MapView m(c, {"trigger", "buffer", "max_level", "check_every", "zones", "mapping"});
+  // Zones alone refine once, at the start; the default triggers come only with no zones.
+  if (m.get("zones") && !m.get("trigger")) r.settings.trigger = {};
   if (const auto v = m.get("trigger")) r.settings.trigger = read_triggers(*v);
   if (const auto v = m.get("buffer")) r.settings.buffer = non_negative_number(*v);
   if (const auto v = m.get("max_level"))
@@ -59,8 +75,6 @@ std::optional<RefinementSpec> read_refinement(const Cursor& c, const Scene& s) {
         v->choice({std::begin(kStateMappingNames), std::end(kStateMappingNames)}));
   if (const auto v = m.get("zones"))
     for (const auto& z : read_regions(*v, s.dimension)) r.settings.zones.push_back(z.shape);
-  if (!r.settings.trigger.any() && r.settings.zones.empty())
-    c.fail("refinement needs a trigger or zones", "trigger, zones");
   check_refinable(c, s);
   return r;
 }

@@ -41,6 +41,7 @@ const std::vector<std::string> kTopLevelKeys{"name",
                                              "horizon",
                                              "model",
                                              "partial_volume",
+                                             "interfaces",
                                              "cracks",
                                              "no_fail",
                                              "initial_conditions",
@@ -139,6 +140,20 @@ void read_discretisation(const MapView& top, Scene& s) {
     std::vector<std::string> words;
     for (const auto r : rules) words.emplace_back(to_string(r));
     s.partial_volume = rules[pv->choice(words)];
+  }
+  if (const auto interfaces = top.get("interfaces")) {
+    s.interfaces = interfaces->choice({"consistent", "paper"}) == 0;
+    if (*s.interfaces && s.model != ForceModel::DualHorizon)
+      interfaces->fail(fmt::format("interfaces: consistent corrects dual-horizon level jumps; "
+                                   "model {} has none to correct",
+                                   to_string(s.model)),
+                       "paper (or model dual-horizon)");
+    for (std::size_t p = 0; p < s.body.size() && *s.interfaces; ++p)
+      if (s.body[p].kind != PartKind::Lattice)
+        interfaces->fail(fmt::format("interfaces: consistent corrects the level jumps of lattice "
+                                     "parts, but body.{} (line {}) is not a lattice",
+                                     p, s.body[p].where.line),
+                         "paper (or lattice parts only)");
   }
 }
 
