@@ -131,6 +131,18 @@ const std::vector<BadScene> kBadScenes = {
     {"PointsFileWithSpacing",
      replace_line(6, "  - {points_file: p.txt, spacing: 0.1, material: glass}"),
      "bad.yaml:6: body.0.spacing: unknown key 'spacing'"},
+    {"PointSizeOnALatticePart",
+     replace_line(6,
+                  "  - {shape: box, min: [0, 0], max: [1, 1], spacing: 0.1, point_size: "
+                  "cell-side, material: glass}"),
+     "bad.yaml:6: body.0.point_size: point_size applies to mesh and points-file parts; a "
+     "lattice part's particle size is its spacing (allowed: mesh or points_file parts only)"},
+    {"PointSizeUnknownWord",
+     replace_line(6,
+                  "  - {shape: box, min: [0, 0], max: [1, 1], mesh: {size: 0.2}, point_size: "
+                  "cell_side, material: glass}"),
+     "bad.yaml:6: body.0.point_size: unknown point_size 'cell_side', did you mean 'cell-side'? "
+     "(allowed: equivalent-diameter, cell-side)"},
     {"BoxMaxBelowMin",
      replace_line(6, "  - {shape: box, min: [0, 0], max: [1, 0], spacing: 0.1, material: glass}"),
      "bad.yaml:6: body.0.max: max must be greater than min on every axis, but on y"},
