@@ -346,5 +346,44 @@ TEST(CrackMeasure, ThroughTheThicknessOfA3DPlateTheFrontIsNotABranch) {
   }
 }
 
+TEST(CrackMeasure, AFrontMeasuresTheAngleInThePlateNotTheTipsHeight) {
+  // A short crack at 60° in a 3D plate whose farthest particles lie at the plate's face, 3.5 mm
+  // above the notch tip's height: with `front` the angle is the crack's, about 60°; without, the
+  // chord through the thickness tilts it (height 3.5 mm over about 4 mm in the plate).
+  geometry::Box box;
+  box.max = {0.02, 0.02, 0.008};
+  Section s3;
+  s3.dim = 3;
+  auto p = test::store_from_points(geometry::fill_lattice({{box, kDx, 0}}, 3), 3, kFactor, s3);
+  const Vec3 notch{0.0025, 0.0025, 0.004};
+  const Vec3 along = unit(60);
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const Vec3 x{p.reference_position[0][i], p.reference_position[1][i],
+                 p.reference_position[2][i]};
+    const Vec3 d = x - notch;
+    const Vec3 in_plane{d[0], d[1], 0};
+    const double t = std::clamp(geometry::dot(in_plane, along), 0.0, 0.0045);
+    if (geometry::norm(in_plane - t * along) <= 0.75 * kDx && (t < 0.003 || x[2] > 0.007))
+      p.damage[i] = 1.0;
+  }
+  for (const bool with_front : {false, true}) {
+    Settings s;
+    Tip tip{"notch", notch, {1, 0, 0}, std::nullopt};
+    if (with_front) tip.front = Vec3{0, 0, 1};
+    s.tips = {tip};
+    CrackTracker tracker(s);
+    const TipRow r = tracker.measure(p, 0, 0.0).at(0);
+    ASSERT_GT(r.x[2], 0.007);  // the farthest particle sits at the face
+    const Vec3 d = r.x - notch;
+    const double in_plane = std::atan2(d[1], d[0]) * 180.0 / std::numbers::pi;
+    EXPECT_NEAR(in_plane, 60.0, 5.0);
+    if (with_front) {
+      EXPECT_NEAR(r.angle_deg, in_plane, 1e-9);
+    } else {
+      EXPECT_GT(r.angle_deg, in_plane + 5.0);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace dhpd::measure

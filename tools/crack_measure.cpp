@@ -203,6 +203,14 @@ double angle_between_deg(const Vec3& a, const Vec3& b) {
          std::numbers::pi;
 }
 
+/// The chord from the notch tip with its component along the notch front removed (none without a
+/// front): a through crack's angle in its plate, whatever the tip's height in the thickness.
+Vec3 across_front(const Vec3& chord, const std::optional<Vec3>& front) {
+  if (!front) return chord;
+  const Vec3 f = (1.0 / geometry::norm(*front)) * *front;
+  return chord - geometry::dot(chord, f) * f;
+}
+
 double rayleigh_speed_near(const ParticleStore& p, const std::vector<Material>& materials,
                            const Section& section, const Vec3& at) {
   std::size_t nearest = 0;
@@ -237,7 +245,7 @@ TipRow CrackTracker::measure_tip(const DamageGraph& g, const ParticleStore& p, s
     horizon = p.horizon[i];
   }
   r.distance = geometry::norm(r.x - tip.at);
-  r.angle_deg = angle_between_deg(tip.direction, r.x - tip.at);
+  r.angle_deg = angle_between_deg(tip.direction, across_front(r.x - tip.at, tip.front));
   t.time.push_back(time);
   t.x.push_back(r.x);
   t.path.push_back(r.path_length);
