@@ -59,7 +59,7 @@ Vec3 unit(double degrees) {
 Settings one_tip(std::int64_t smoothing) {
   Settings s;
   s.smoothing = smoothing;
-  s.tips = {{"notch", kNotch, {2, 0, 0}}};  // direction need not be unit
+  s.tips = {{"notch", kNotch, {2, 0, 0}, std::nullopt, std::nullopt}};  // direction: not unit
   return s;
 }
 
@@ -304,6 +304,23 @@ TEST(MeasureScene, ReadsAndResolvesTheBlock) {
   EXPECT_FALSE(defaults.measure->published.has_value());
 }
 
+TEST(MeasureScene, ATipsRegionIsReadAndResolved) {
+  const std::string text =
+      kMeasured.substr(0, kMeasured.find("measure:")) +
+      "measure: {tips: [{name: a, at: [0.5, 0.5], direction: [1, 0], region: {shape: "
+      "half-space, point: [0, 0.5], normal: [0, -1]}}]}\n";
+  const auto s = scene::parse_scene(text, "r.yaml");
+  const auto& tip = s.measure->settings.tips.at(0);
+  ASSERT_TRUE(tip.region.has_value());
+  EXPECT_TRUE(tip.region->contains({0.9, 0.7, 0}, 2));
+  EXPECT_FALSE(tip.region->contains({0.9, 0.3, 0}, 2));
+  const std::string resolved = scene::resolved_yaml(s);
+  EXPECT_NE(resolved.find("region: {shape: half-space, point: [0, 0.5], normal: [0, -1]}"),
+            std::string::npos)
+      << resolved;
+  EXPECT_EQ(scene::resolved_yaml(scene::parse_scene(resolved, "again.yaml")), resolved);
+}
+
 TEST(MeasureScene, TipOutsideTheBodyIsRefusedBeforeTheRun) {
   const auto s = scene::parse_scene(kMeasured, "m.yaml", {{"measure.tips.1.at", "[0.5, 1.2]"}});
   try {
@@ -337,12 +354,44 @@ TEST(CrackMeasure, ThroughTheThicknessOfA3DPlateTheFrontIsNotABranch) {
   }
   for (const bool along_front : {false, true}) {
     Settings s;
-    Tip tip{"notch", {0.0025, 0.0045, 0.0035}, {1, 0, 0}, std::nullopt};
+    Tip tip{"notch", {0.0025, 0.0045, 0.0035}, {1, 0, 0}, std::nullopt, std::nullopt};
     if (along_front) tip.front = Vec3{0, 0, 1};
     s.tips = {tip};
     CrackTracker tracker(s);
     const auto rows = tracker.measure(p, 0, 0.0);
     EXPECT_EQ(rows.at(0).branches, along_front ? 1 : 2);
+  }
+}
+
+TEST(CrackMeasure, ARegionKeepsAnotherNotchsCrackOutOfThisOne) {
+  // Two notch tips 20 mm apart (y = 35 and 15 mm), each with a crack at ±60°, joined by damage
+  // between the notches (an impact zone): without regions each tip's crack runs through it into
+  // the other crack (path 10 + 20 + 12 mm against 12 mm), so the tip is found on the wrong one;
+  // with the half-spaces above and below the notch lines each tip finds its own crack.
+  ParticleStore p = plate(0.04, 0.05, kDx);
+  const Vec3 upper{0.01, 0.035, 0}, lower{0.01, 0.015, 0};
+  paint_segment(p, upper, upper + 0.012 * unit(60), 0.75 * kDx);
+  paint_segment(p, lower, lower + 0.012 * unit(-60), 0.75 * kDx);
+  paint_segment(p, upper, lower, 0.75 * kDx);  // the damaged zone between the notch tips
+  paint_segment(p, lower, {0.0, 0.015, 0}, 0.75 * kDx);
+  for (const bool regions : {false, true}) {
+    Settings s;
+    s.tips = {{"upper", upper, {1, 0, 0}, std::nullopt, std::nullopt},
+              {"lower", lower, {1, 0, 0}, std::nullopt, std::nullopt}};
+    if (regions) {
+      s.tips[0].region = geometry::Shape::half_space({0, 0.035, 0}, {0, -1, 0});
+      s.tips[1].region = geometry::Shape::half_space({0, 0.015, 0}, {0, 1, 0});
+    }
+    CrackTracker tracker(s);
+    const auto rows = tracker.measure(p, 0, 0.0);
+    if (regions) {
+      EXPECT_NEAR(rows.at(0).angle_deg, 60.0, 5.0);
+      EXPECT_GT(rows.at(0).x[1], upper[1]);
+      EXPECT_NEAR(rows.at(1).angle_deg, 60.0, 5.0);
+      EXPECT_LT(rows.at(1).x[1], lower[1]);
+    } else {
+      EXPECT_LT(rows.at(0).x[1], lower[1]);  // the upper tip found on the lower crack
+    }
   }
 }
 
@@ -368,7 +417,7 @@ TEST(CrackMeasure, AFrontMeasuresTheAngleInThePlateNotTheTipsHeight) {
   }
   for (const bool with_front : {false, true}) {
     Settings s;
-    Tip tip{"notch", notch, {1, 0, 0}, std::nullopt};
+    Tip tip{"notch", notch, {1, 0, 0}, std::nullopt, std::nullopt};
     if (with_front) tip.front = Vec3{0, 0, 1};
     s.tips = {tip};
     CrackTracker tracker(s);

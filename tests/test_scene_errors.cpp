@@ -385,7 +385,13 @@ const std::vector<BadScene> kBadScenes = {
      "bad.yaml:11: measure.tips.0.at: expected a list of 2 numbers (one per axis), got 3 items"},
     {"MeasureTipUnknownKey",
      plus(measured("{name: a, at: [0.5, 0.5], direction: [1, 0], dir: [1, 0]}")),
-     "bad.yaml:11: measure.tips.0.dir: unknown key 'dir' (allowed: name, at, direction, front)"},
+     "bad.yaml:11: measure.tips.0.dir: unknown key 'dir' (allowed: name, at, direction, front, "
+     "region)"},
+    {"MeasureTipOutsideItsRegion",
+     plus(measured("{name: a, at: [0.5, 0.5], direction: [1, 0],\n"
+                   "       region: {shape: half-space, point: [0, 0.6], normal: [0, -1]}}")),
+     "bad.yaml:12: measure.tips.0.region: the notch tip [0.5, 0.5] lies outside its region "
+     "(allowed: a region that holds the notch tip)"},
     {"MeasureFrontIn2D",
      plus(measured("{name: a, at: [0.5, 0.5], direction: [1, 0], front: [0, 1]}")),
      "bad.yaml:11: measure.tips.0.front: front is the notch front's direction of a 3D scene"},

@@ -298,6 +298,10 @@ void emit_measure(YAML::Emitter& out, const Scene& s) {
     emit_key_point(out, "at", tip.at, s.dimension);
     emit_key_point(out, "direction", tip.direction, s.dimension);
     if (tip.front) emit_key_point(out, "front", *tip.front, s.dimension);
+    if (tip.region) {
+      out << YAML::Key << "region" << YAML::Value;
+      emit_region(out, *tip.region, s.dimension);
+    }
     out << YAML::EndMap;
   }
   out << YAML::EndSeq;
