@@ -22,9 +22,10 @@ enum class PointSize {
 inline double point_size(double measure, int dim, PointSize rule) {
   if (rule == PointSize::CellSide)
     return dim == 1 ? measure : (dim == 2 ? std::sqrt(measure) : std::cbrt(measure));
+  // The constant outside the root, so a measure near the largest double gives a finite size.
   if (dim == 1) return measure;
-  if (dim == 2) return 2.0 * std::sqrt(measure / std::numbers::pi);
-  return std::cbrt(6.0 * measure / std::numbers::pi);
+  if (dim == 2) return 2.0 / std::sqrt(std::numbers::pi) * std::sqrt(measure);
+  return std::cbrt(6.0 / std::numbers::pi) * std::cbrt(measure);
 }
 
 /// The scene words for the rules, in enum order.

@@ -103,6 +103,12 @@ TEST(PointsFile, VolumeThatOverflowsOrUnderflowsTheCellMeasureIsRefused) {
             "in 1D) gives a cell measure of 0, which is not a finite number > 0");
   o.section = 1.0;
   EXPECT_EQ(parse("0 0 1e-310 glass\n", o).cell_measure[0], 1e-310);  // tiny but > 0 is kept
+  // The equivalent diameter of the largest volumes stays finite (cbrt(6V/π) computed as
+  // cbrt(6/π)·cbrt(V): 6V alone overflows).
+  o.dim = 3;
+  const auto huge = parse("0 0 0 1.7e308 glass\n", o);
+  EXPECT_TRUE(std::isfinite(huge.spacing[0]));
+  EXPECT_NEAR(huge.spacing[0] / std::cbrt(1.7e308), std::cbrt(6.0 / std::numbers::pi), 1e-12);
 }
 
 TEST(PointsFile, EachErrorNamesFileLineAndProblem) {
