@@ -67,7 +67,7 @@ const std::vector<BadScene> kBadScenes = {
     {"UnknownKeySuggestion",
      replace_line(6, "  - {shape: box, min: [0, 0], max: [1, 1], spacing: 0.1, materail: glass}"),
      "bad.yaml:6: body.0.materail: unknown key 'materail', did you mean 'material'? (allowed: "
-     "shape, min, max, spacing, mesh, material)"},
+     "shape, min, max, spacing, mesh, point_size, material)"},
     {"UnknownTopLevelKey", replace_line(7, "tiem: {end: 1.0}"),
      "bad.yaml:7: tiem: unknown key 'tiem', did you mean 'time'?"},
     {"DuplicateKey", replace_line(4, "  glass:\n    E: 1.0e9\n    rho: 1000\n    E: 2.0e9"),
@@ -162,11 +162,11 @@ const std::vector<BadScene> kBadScenes = {
     {"ShapeKeyMisspelt",
      replace_line(6, "  - {shape: disk, center: [0, 0], raduis: 1, spacing: 0.1, material: glass}"),
      "bad.yaml:6: body.0.raduis: unknown key 'raduis', did you mean 'radius'? (allowed: shape, "
-     "center, radius, spacing, mesh, material)"},
+     "center, radius, spacing, mesh, point_size, material)"},
     {"BoxKeyOnDisk",
      replace_line(6, "  - {shape: disk, min: [0, 0], radius: 1, spacing: 0.1, material: glass}"),
      "bad.yaml:6: body.0.min: unknown key 'min' (allowed: shape, center, radius, spacing, "
-     "mesh, material)"},
+     "mesh, point_size, material)"},
     {"RadiusZero",
      replace_line(6, "  - {shape: disk, center: [0, 0], radius: 0, spacing: 0.1, material: glass}"),
      "bad.yaml:6: body.0.radius: radius must be > 0, got 0 (allowed: > 0)"},
