@@ -1,6 +1,7 @@
 // Mesh → particles (CMAME 2017 §6): CGAL constrained Delaunay triangulation of the boundary,
 // Delaunay refinement with a size field and a shape bound, then each node takes a third of the
-// area of each incident triangle. CGAL is included here only (never in a header).
+// area of each incident triangle and Δx its equivalent diameter. CGAL is included here only
+// (never in a header).
 #include "geometry/mesh_points.hpp"
 
 #include <CGAL/Constrained_Delaunay_triangulation_2.h>
@@ -88,7 +89,7 @@ class GradedCriteria {
 };
 
 /// One third of every in-domain triangle's area to each of its nodes, in vertex order.
-PointSet lump_areas(const Cdt& cdt, int material, int part) {
+PointSet lump_areas(const Cdt& cdt, int material, int part, PointSize rule) {
   std::map<Cdt::Vertex_handle, std::size_t> index;
   PointSet out;
   for (auto v = cdt.finite_vertices_begin(); v != cdt.finite_vertices_end(); ++v) {
@@ -109,7 +110,7 @@ PointSet lump_areas(const Cdt& cdt, int material, int part) {
     if (!(out.cell_measure[i] > 0.0)) continue;
     kept.position.push_back(out.position[i]);
     kept.cell_measure.push_back(out.cell_measure[i]);
-    kept.spacing.push_back(std::sqrt(out.cell_measure[i]));
+    kept.spacing.push_back(point_size(out.cell_measure[i], 2, rule));
     kept.material.push_back(material);
     kept.part.push_back(part);
   }
@@ -119,7 +120,7 @@ PointSet lump_areas(const Cdt& cdt, int material, int part) {
 }  // namespace
 
 PointSet mesh_polygon(const std::vector<std::array<double, 2>>& boundary, const MeshSize& size,
-                      int material, int part) {
+                      int material, int part, PointSize rule) {
   if (boundary.size() < 3) throw std::invalid_argument("a mesh boundary needs at least 3 points");
   if (!(size.size > 0.0) || !(size.rate >= 0.0))
     throw std::invalid_argument("the mesh size must be > 0 and its grading rate >= 0");
@@ -129,17 +130,18 @@ PointSet mesh_polygon(const std::vector<std::array<double, 2>>& boundary, const 
   for (std::size_t k = 0; k < corners.size(); ++k)
     cdt.insert_constraint(corners[k], corners[(k + 1) % corners.size()]);
   CGAL::refine_Delaunay_mesh_2(cdt, GradedCriteria(size));
-  return lump_areas(cdt, material, part);
+  return lump_areas(cdt, material, part, rule);
 }
 
-PointSet mesh_box(const Box& box, int dim, const MeshSize& size, int material, int part) {
-  if (dim == 3) return mesh_box_3d(box, size, material, part);
+PointSet mesh_box(const Box& box, int dim, const MeshSize& size, int material, int part,
+                  PointSize rule) {
+  if (dim == 3) return mesh_box_3d(box, size, material, part, rule);
   if (dim != 2) throw std::invalid_argument("meshing is available for 2D and 3D parts only");
   const std::vector<std::array<double, 2>> corners{{box.min[0], box.min[1]},
                                                    {box.max[0], box.min[1]},
                                                    {box.max[0], box.max[1]},
                                                    {box.min[0], box.max[1]}};
-  return mesh_polygon(corners, size, material, part);
+  return mesh_polygon(corners, size, material, part, rule);
 }
 
 }  // namespace dhpd::geometry

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "geometry/lattice.hpp"
+#include "geometry/point_size.hpp"
 #include "geometry/shapes.hpp"
 
 namespace dhpd::geometry {
@@ -27,19 +28,22 @@ inline constexpr double kMeshShapeBound = 0.125;
 
 /// A 2D polygon (vertices in order, either orientation, not closed: the last vertex joins the
 /// first) meshed with triangles no longer than `size` allows. Each node gets the cell measure
-/// Σ area/3 of its triangles, spacing sqrt(cell measure) (so spacing² = cell area as on the
-/// lattice), `material` and part index `part`. Throws std::invalid_argument for fewer than 3
-/// vertices or a non-positive size.
+/// Σ area/3 of its triangles, spacing point_size(cell measure, 2, `rule`) (by default the
+/// equivalent diameter 2·sqrt(area/π), CMAME 2017 §6), `material` and part index `part`. Throws
+/// std::invalid_argument for fewer than 3 vertices or a non-positive size.
 PointSet mesh_polygon(const std::vector<std::array<double, 2>>& boundary, const MeshSize& size,
-                      int material, int part = 0);
+                      int material, int part = 0, PointSize rule = PointSize::EquivalentDiameter);
 
 /// An axis-aligned box meshed as above (dim 2) or with tetrahedra (dim 3, mesh_box_3d); dim 1
 /// throws std::invalid_argument.
-PointSet mesh_box(const Box& box, int dim, const MeshSize& size, int material, int part = 0);
+PointSet mesh_box(const Box& box, int dim, const MeshSize& size, int material, int part = 0,
+                  PointSize rule = PointSize::EquivalentDiameter);
 
 /// A box meshed with CGAL Mesh_3, its edges and corners protected so the tetrahedra fill it
 /// exactly; `size` bounds edges, boundary facets and cell radii. Each node gets a quarter of the
-/// volume of each of its tetrahedra and spacing cbrt(volume).
-PointSet mesh_box_3d(const Box& box, const MeshSize& size, int material, int part = 0);
+/// volume of each of its tetrahedra and spacing point_size(volume, 3, `rule`) (by default the
+/// equivalent diameter cbrt(6·volume/π)).
+PointSet mesh_box_3d(const Box& box, const MeshSize& size, int material, int part = 0,
+                     PointSize rule = PointSize::EquivalentDiameter);
 
 }  // namespace dhpd::geometry

@@ -1,5 +1,6 @@
 // 3D mesh → particles: CGAL Mesh_3 on a box with its edges and corners protected, then each node
-// takes a quarter of the volume of each incident tetrahedron (CMAME 2017 §6). Kept apart from
+// takes a quarter of the volume of each incident tetrahedron and Δx its equivalent diameter
+// (CMAME 2017 §6). Kept apart from
 // the 2D mesher because Mesh_3 is slow to compile; CGAL is included here only.
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Mesh_complex_3_in_triangulation_3.h>
@@ -58,7 +59,7 @@ Vec3 to_vec(const Tr::Weighted_point& p) {
   return {CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z())};
 }
 
-PointSet lump_volumes(const C3t3& c3t3, int material, int part) {
+PointSet lump_volumes(const C3t3& c3t3, int material, int part, PointSize rule) {
   const Tr& tr = c3t3.triangulation();
   std::map<Tr::Vertex_handle, std::size_t> index;
   PointSet out;
@@ -75,7 +76,7 @@ PointSet lump_volumes(const C3t3& c3t3, int material, int part) {
     for (int k = 0; k < 4; ++k) out.cell_measure[index.at(c->vertex(k))] += share;
   }
   for (std::size_t i = 0; i < out.size(); ++i) {
-    out.spacing.push_back(std::cbrt(out.cell_measure[i]));
+    out.spacing.push_back(point_size(out.cell_measure[i], 3, rule));
     out.material.push_back(material);
     out.part.push_back(part);
   }
@@ -84,7 +85,7 @@ PointSet lump_volumes(const C3t3& c3t3, int material, int part) {
 
 }  // namespace
 
-PointSet mesh_box_3d(const Box& box, const MeshSize& size, int material, int part) {
+PointSet mesh_box_3d(const Box& box, const MeshSize& size, int material, int part, PointSize rule) {
   if (!(size.size > 0.0) || !(size.rate >= 0.0))
     throw std::invalid_argument("the mesh size must be > 0 and its grading rate >= 0");
   Domain domain(box_surface(box));
@@ -96,7 +97,7 @@ PointSet mesh_box_3d(const Box& box, const MeshSize& size, int material, int par
                           params::cell_size = field);
   const C3t3 c3t3 =
       CGAL::make_mesh_3<C3t3>(domain, criteria, params::no_perturb(), params::no_exude());
-  return lump_volumes(c3t3, material, part);
+  return lump_volumes(c3t3, material, part, rule);
 }
 
 }  // namespace dhpd::geometry

@@ -90,7 +90,7 @@ void read_line(const LineSource& at, const std::vector<std::string>& columns,
                     columns[dim], o.section, measure));
   out.position.push_back(x);
   out.cell_measure.push_back(measure);
-  out.spacing.push_back(std::pow(measure, 1.0 / o.dim));
+  out.spacing.push_back(point_size(measure, o.dim, o.size_rule));
   out.material.push_back(material);
   out.part.push_back(o.part);
 }

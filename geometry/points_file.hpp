@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "geometry/lattice.hpp"
+#include "geometry/point_size.hpp"
 
 namespace dhpd::geometry {
 
@@ -17,12 +18,15 @@ namespace dhpd::geometry {
 ///
 /// The file gives true volumes. The point set stores cell measures (length, area or volume, as
 /// the lattice does), so the caller passes the section: cell measure = volume / `section`, with
-/// `section` = the thickness in 2D, the cross-section area in 1D and 1 in 3D. The spacing of a
-/// point is the equivalent lattice spacing cell_measure^(1/dim), so its horizon is
-/// factor × spacing as for a lattice cell of the same size.
+/// `section` = the thickness in 2D, the cross-section area in 1D and 1 in 3D. The spacing Δx of a
+/// point is point_size(cell measure, dim, `size_rule`): by default the equivalent diameter of
+/// CMAME 2017 §6 (disk or ball of the point's area or volume); `CellSide` gives the lattice
+/// spacing cell_measure^(1/dim) back for a lattice written to a file. Its horizon is
+/// factor × Δx.
 struct PointsFileOptions {
   int dim = 2;
   double section = 1.0;
+  PointSize size_rule = PointSize::EquivalentDiameter;
   std::vector<std::string> materials;   ///< names, in index order
   std::optional<int> default_material;  ///< for lines without a material column
   int part = 0;                         ///< part index stored with every point

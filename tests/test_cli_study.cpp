@@ -107,4 +107,47 @@ TEST_F(CliStudy, MirrorTipsGiveTheReferencesOwnTipPathSpread) {
       << bad.err;
 }
 
+TEST_F(CliStudy, AnglesGiveEachRunsEarlyAndFinalCrackAngles) {
+  // Kalthoff–Winkler 2D, coarse, to 50 µs: both cracks run past 20 mm. angles.csv holds, per run
+  // and tip, the final chord angle of summary.json and the early angle (median chord angle while
+  // the tip lay 10 to 20 mm from the notch tip), which must be one of cracks.csv's angles then.
+  const std::string kw = std::string(DHPD_SOURCE_DIR) + "/cases/kalthoff_winkler_2d_uniform.yaml";
+  const auto study = [&](const std::string& angles) {
+    write("kw.yaml", "name: kw\ncase: " + kw +
+                         "\nreference: {label: reference, set: {time.end: 5.0e-5}}\n"
+                         "variants:\n  - {label: same, set: {time.end: 5.0e-5}}\n"
+                         "frames: 1\nangles: " +
+                         angles + "\n");
+    return dhpd({"study", "kw.yaml", "-o", "kw"});
+  };
+  ASSERT_EQ(study("{early_distance: 0.02}").code, 0);
+  const auto rows = table(dir_ / "kw" / "angles.csv");
+  ASSERT_EQ(rows.size(), 5u);  // header, two runs × two tips
+  EXPECT_EQ(rows[0], (std::vector<std::string>{"label", "tip", "initiation_time", "early_angle_deg",
+                                               "angle_deg", "distance", "published_angle_deg"}));
+  const auto summary = read_json(dir_ / "kw" / "run-00" / "summary.json");
+  const auto cracks = read_history(dir_ / "kw" / "run-00" / "cracks.csv");
+  for (std::size_t k = 0; k < 2; ++k) {
+    const auto& row = rows[3 + k];
+    EXPECT_EQ(row[0], "same");
+    EXPECT_NEAR(std::stod(row[4]), summary.at("cracks")[k].at("angle_deg").get<double>(), 1e-9);
+    EXPECT_EQ(row[6], "65.7");
+    const double early = std::stod(row[3]);
+    std::size_t in_band = 0, matches = 0;
+    for (const auto& c : cracks.rows) {
+      const double d = std::stod(c.at(6));
+      if (c.at(2) != row[1] || d < 0.01 || d > 0.02) continue;
+      ++in_band;
+      matches += std::abs(std::stod(c.at(9)) - early) < 1e-9;
+    }
+    EXPECT_GT(in_band, 0u);
+    EXPECT_GT(matches, 0u) << "early angle " << early << " is no angle of the 10-20 mm band";
+  }
+  EXPECT_NE(read_text(dir_ / "kw" / "study.md").find("| same | lower |"), std::string::npos);
+  const auto bad = study("{early_distance: -1}");
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.err.find("angles must be {early_distance: NUMBER > 0} (m)"), std::string::npos)
+      << bad.err;
+}
+
 }  // namespace

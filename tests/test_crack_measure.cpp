@@ -59,7 +59,7 @@ Vec3 unit(double degrees) {
 Settings one_tip(std::int64_t smoothing) {
   Settings s;
   s.smoothing = smoothing;
-  s.tips = {{"notch", kNotch, {2, 0, 0}}};  // direction need not be unit
+  s.tips = {{"notch", kNotch, {2, 0, 0}, std::nullopt, std::nullopt}};  // direction: not unit
   return s;
 }
 
@@ -304,6 +304,23 @@ TEST(MeasureScene, ReadsAndResolvesTheBlock) {
   EXPECT_FALSE(defaults.measure->published.has_value());
 }
 
+TEST(MeasureScene, ATipsRegionIsReadAndResolved) {
+  const std::string text =
+      kMeasured.substr(0, kMeasured.find("measure:")) +
+      "measure: {tips: [{name: a, at: [0.5, 0.5], direction: [1, 0], region: {shape: "
+      "half-space, point: [0, 0.5], normal: [0, -1]}}]}\n";
+  const auto s = scene::parse_scene(text, "r.yaml");
+  const auto& tip = s.measure->settings.tips.at(0);
+  ASSERT_TRUE(tip.region.has_value());
+  EXPECT_TRUE(tip.region->contains({0.9, 0.7, 0}, 2));
+  EXPECT_FALSE(tip.region->contains({0.9, 0.3, 0}, 2));
+  const std::string resolved = scene::resolved_yaml(s);
+  EXPECT_NE(resolved.find("region: {shape: half-space, point: [0, 0.5], normal: [0, -1]}"),
+            std::string::npos)
+      << resolved;
+  EXPECT_EQ(scene::resolved_yaml(scene::parse_scene(resolved, "again.yaml")), resolved);
+}
+
 TEST(MeasureScene, TipOutsideTheBodyIsRefusedBeforeTheRun) {
   const auto s = scene::parse_scene(kMeasured, "m.yaml", {{"measure.tips.1.at", "[0.5, 1.2]"}});
   try {
@@ -337,12 +354,83 @@ TEST(CrackMeasure, ThroughTheThicknessOfA3DPlateTheFrontIsNotABranch) {
   }
   for (const bool along_front : {false, true}) {
     Settings s;
-    Tip tip{"notch", {0.0025, 0.0045, 0.0035}, {1, 0, 0}, std::nullopt};
+    Tip tip{"notch", {0.0025, 0.0045, 0.0035}, {1, 0, 0}, std::nullopt, std::nullopt};
     if (along_front) tip.front = Vec3{0, 0, 1};
     s.tips = {tip};
     CrackTracker tracker(s);
     const auto rows = tracker.measure(p, 0, 0.0);
     EXPECT_EQ(rows.at(0).branches, along_front ? 1 : 2);
+  }
+}
+
+TEST(CrackMeasure, ARegionKeepsAnotherNotchsCrackOutOfThisOne) {
+  // Two notch tips 20 mm apart (y = 35 and 15 mm), each with a crack at ±60°, joined by damage
+  // between the notches (an impact zone): without regions each tip's crack runs through it into
+  // the other crack (path 10 + 20 + 12 mm against 12 mm), so the tip is found on the wrong one;
+  // with the half-spaces above and below the notch lines each tip finds its own crack.
+  ParticleStore p = plate(0.04, 0.05, kDx);
+  const Vec3 upper{0.01, 0.035, 0}, lower{0.01, 0.015, 0};
+  paint_segment(p, upper, upper + 0.012 * unit(60), 0.75 * kDx);
+  paint_segment(p, lower, lower + 0.012 * unit(-60), 0.75 * kDx);
+  paint_segment(p, upper, lower, 0.75 * kDx);  // the damaged zone between the notch tips
+  paint_segment(p, lower, {0.0, 0.015, 0}, 0.75 * kDx);
+  for (const bool regions : {false, true}) {
+    Settings s;
+    s.tips = {{"upper", upper, {1, 0, 0}, std::nullopt, std::nullopt},
+              {"lower", lower, {1, 0, 0}, std::nullopt, std::nullopt}};
+    if (regions) {
+      s.tips[0].region = geometry::Shape::half_space({0, 0.035, 0}, {0, -1, 0});
+      s.tips[1].region = geometry::Shape::half_space({0, 0.015, 0}, {0, 1, 0});
+    }
+    CrackTracker tracker(s);
+    const auto rows = tracker.measure(p, 0, 0.0);
+    if (regions) {
+      EXPECT_NEAR(rows.at(0).angle_deg, 60.0, 5.0);
+      EXPECT_GT(rows.at(0).x[1], upper[1]);
+      EXPECT_NEAR(rows.at(1).angle_deg, 60.0, 5.0);
+      EXPECT_LT(rows.at(1).x[1], lower[1]);
+    } else {
+      EXPECT_LT(rows.at(0).x[1], lower[1]);  // the upper tip found on the lower crack
+    }
+  }
+}
+
+TEST(CrackMeasure, AFrontMeasuresTheAngleInThePlateNotTheTipsHeight) {
+  // A short crack at 60° in a 3D plate whose farthest particles lie at the plate's face, 3.5 mm
+  // above the notch tip's height: with `front` the angle is the crack's, about 60°; without, the
+  // chord through the thickness tilts it (height 3.5 mm over about 4 mm in the plate).
+  geometry::Box box;
+  box.max = {0.02, 0.02, 0.008};
+  Section s3;
+  s3.dim = 3;
+  auto p = test::store_from_points(geometry::fill_lattice({{box, kDx, 0}}, 3), 3, kFactor, s3);
+  const Vec3 notch{0.0025, 0.0025, 0.004};
+  const Vec3 along = unit(60);
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const Vec3 x{p.reference_position[0][i], p.reference_position[1][i],
+                 p.reference_position[2][i]};
+    const Vec3 d = x - notch;
+    const Vec3 in_plane{d[0], d[1], 0};
+    const double t = std::clamp(geometry::dot(in_plane, along), 0.0, 0.0045);
+    if (geometry::norm(in_plane - t * along) <= 0.75 * kDx && (t < 0.003 || x[2] > 0.007))
+      p.damage[i] = 1.0;
+  }
+  for (const bool with_front : {false, true}) {
+    Settings s;
+    Tip tip{"notch", notch, {1, 0, 0}, std::nullopt, std::nullopt};
+    if (with_front) tip.front = Vec3{0, 0, 1};
+    s.tips = {tip};
+    CrackTracker tracker(s);
+    const TipRow r = tracker.measure(p, 0, 0.0).at(0);
+    ASSERT_GT(r.x[2], 0.007);  // the farthest particle sits at the face
+    const Vec3 d = r.x - notch;
+    const double in_plane = std::atan2(d[1], d[0]) * 180.0 / std::numbers::pi;
+    EXPECT_NEAR(in_plane, 60.0, 5.0);
+    if (with_front) {
+      EXPECT_NEAR(r.angle_deg, in_plane, 1e-9);
+    } else {
+      EXPECT_GT(r.angle_deg, in_plane + 5.0);
+    }
   }
 }
 

@@ -3,8 +3,10 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <numbers>
 #include <random>
 #include <sstream>
 
@@ -57,8 +59,14 @@ TEST(PointsFile, ReadsCoordinatesVolumesAndMaterials) {
   EXPECT_EQ(pts.position[1][0], 1e-3);
   EXPECT_EQ(pts.position[2][1], 1e-3);
   EXPECT_DOUBLE_EQ(pts.cell_measure[0], 1e-6);  // 2e-9 m³ / 2e-3 m
-  EXPECT_DOUBLE_EQ(pts.spacing[0], 1e-3);       // sqrt(cell area), as on the lattice
-  EXPECT_DOUBLE_EQ(pts.spacing[1], 2e-3);
+  // Δx is the equivalent diameter (CMAME 2017 §6): the disk of area 1e-6 m² has diameter
+  // 2·sqrt(1e-6/π) = 1.128e-3 m; cell-side gives the lattice spacing sqrt(area) back.
+  EXPECT_DOUBLE_EQ(pts.spacing[0], 2.0 * std::sqrt(1e-6 / std::numbers::pi));
+  EXPECT_DOUBLE_EQ(pts.spacing[1], 2.0 * std::sqrt(4e-6 / std::numbers::pi));
+  o.size_rule = geometry::PointSize::CellSide;
+  const auto cells = parse(text, o);
+  EXPECT_DOUBLE_EQ(cells.spacing[0], 1e-3);
+  EXPECT_DOUBLE_EQ(cells.spacing[1], 2e-3);
   EXPECT_EQ(pts.material, (std::vector<int>{0, 1, 1}));
   EXPECT_EQ(pts.part, (std::vector<int>{4, 4, 4}));
 }
@@ -69,12 +77,16 @@ TEST(PointsFile, DimensionDecidesTheColumns) {
   o.materials = {"m"};
   const auto pts = parse("1 2 3 8 m\n", o);
   EXPECT_EQ(pts.position[0][2], 3.0);
-  EXPECT_DOUBLE_EQ(pts.spacing[0], 2.0);  // cbrt(8)
+  EXPECT_DOUBLE_EQ(pts.spacing[0], std::cbrt(6.0 * 8.0 / std::numbers::pi));  // ball of 8 m³
   o.dim = 1;
   o.section = 0.5;  // cross-section area
   const auto bar = parse("0.25 1.5 0\n", o);
   EXPECT_DOUBLE_EQ(bar.cell_measure[0], 3.0);
-  EXPECT_DOUBLE_EQ(bar.spacing[0], 3.0);
+  EXPECT_DOUBLE_EQ(bar.spacing[0], 3.0);  // in 1D the equivalent diameter is the cell length
+  o.dim = 3;
+  o.section = 1.0;
+  o.size_rule = geometry::PointSize::CellSide;
+  EXPECT_DOUBLE_EQ(parse("1 2 3 8 m\n", o).spacing[0], 2.0);  // cbrt(8)
 }
 
 // Found by fuzzing (tests/fuzz): a volume far from the section's scale gave particles a cell
@@ -91,6 +103,12 @@ TEST(PointsFile, VolumeThatOverflowsOrUnderflowsTheCellMeasureIsRefused) {
             "in 1D) gives a cell measure of 0, which is not a finite number > 0");
   o.section = 1.0;
   EXPECT_EQ(parse("0 0 1e-310 glass\n", o).cell_measure[0], 1e-310);  // tiny but > 0 is kept
+  // The equivalent diameter of the largest volumes stays finite (cbrt(6V/π) computed as
+  // cbrt(6/π)·cbrt(V): 6V alone overflows).
+  o.dim = 3;
+  const auto huge = parse("0 0 0 1.7e308 glass\n", o);
+  EXPECT_TRUE(std::isfinite(huge.spacing[0]));
+  EXPECT_NEAR(huge.spacing[0] / std::cbrt(1.7e308), std::cbrt(6.0 / std::numbers::pi), 1e-12);
 }
 
 TEST(PointsFile, EachErrorNamesFileLineAndProblem) {
@@ -228,11 +246,14 @@ TEST_F(SceneFiles, PointsFilePartIsResolvedAgainstTheSceneFolder) {
       points += std::to_string((i + 0.5) * 1e-3) + " " + std::to_string((j + 0.5) * 1e-3) +
                 " 2e-9" + (i >= 30 ? " steel" : "") + "\n";
   write("data/plate.txt", "# a 40 x 20 lattice written out\n" + points);
-  const std::string body = "body:\n  - {points_file: data/plate.txt, material: glass}\n";
+  // A lattice written out keeps its lattice spacing with point_size: cell-side.
+  const std::string body =
+      "body:\n  - {points_file: data/plate.txt, point_size: cell-side, material: glass}\n";
   const auto file = write("file.yaml", std::string(kHeader) + body + kTail);
   const auto scene = scene::load_scene(file.string());
   EXPECT_EQ(scene.body[0].points_file, (dir_ / "data/plate.txt").lexically_normal().string());
   const std::string resolved = scene::resolved_yaml(scene);
+  EXPECT_NE(resolved.find("point_size: cell-side"), std::string::npos) << resolved;
   EXPECT_EQ(scene::resolved_yaml(scene::parse_scene(resolved, "elsewhere/again.yaml")), resolved);
   auto sim = scene::build_simulation(scene);
   const auto& p = sim->particles();
@@ -244,6 +265,16 @@ TEST_F(SceneFiles, PointsFilePartIsResolvedAgainstTheSceneFolder) {
     steel += p.material[i] == 1;
   }
   EXPECT_EQ(steel, 200);
+  // By default the same file's points take the equivalent diameter (CMAME 2017 §6).
+  const auto plain = write("plain.yaml", std::string(kHeader) +
+                                             "body:\n  - {points_file: data/plate.txt, "
+                                             "material: glass}\n" +
+                                             kTail);
+  const auto by_default = scene::load_scene(plain.string());
+  EXPECT_NE(scene::resolved_yaml(by_default).find("point_size: equivalent-diameter"),
+            std::string::npos);
+  EXPECT_DOUBLE_EQ(scene::build_simulation(by_default)->particles().spacing[0],
+                   2.0 * std::sqrt(1e-6 / std::numbers::pi));
   sim->run_steps(20);
   EXPECT_NO_THROW(sim->check_stable(sim->energies()));
 }

@@ -67,7 +67,7 @@ const std::vector<BadScene> kBadScenes = {
     {"UnknownKeySuggestion",
      replace_line(6, "  - {shape: box, min: [0, 0], max: [1, 1], spacing: 0.1, materail: glass}"),
      "bad.yaml:6: body.0.materail: unknown key 'materail', did you mean 'material'? (allowed: "
-     "shape, min, max, spacing, mesh, material)"},
+     "shape, min, max, spacing, mesh, point_size, material)"},
     {"UnknownTopLevelKey", replace_line(7, "tiem: {end: 1.0}"),
      "bad.yaml:7: tiem: unknown key 'tiem', did you mean 'time'?"},
     {"DuplicateKey", replace_line(4, "  glass:\n    E: 1.0e9\n    rho: 1000\n    E: 2.0e9"),
@@ -131,6 +131,18 @@ const std::vector<BadScene> kBadScenes = {
     {"PointsFileWithSpacing",
      replace_line(6, "  - {points_file: p.txt, spacing: 0.1, material: glass}"),
      "bad.yaml:6: body.0.spacing: unknown key 'spacing'"},
+    {"PointSizeOnALatticePart",
+     replace_line(6,
+                  "  - {shape: box, min: [0, 0], max: [1, 1], spacing: 0.1, point_size: "
+                  "cell-side, material: glass}"),
+     "bad.yaml:6: body.0.point_size: point_size applies to mesh and points-file parts; a "
+     "lattice part's particle size is its spacing (allowed: mesh or points_file parts only)"},
+    {"PointSizeUnknownWord",
+     replace_line(6,
+                  "  - {shape: box, min: [0, 0], max: [1, 1], mesh: {size: 0.2}, point_size: "
+                  "cell_side, material: glass}"),
+     "bad.yaml:6: body.0.point_size: unknown point_size 'cell_side', did you mean 'cell-side'? "
+     "(allowed: equivalent-diameter, cell-side)"},
     {"BoxMaxBelowMin",
      replace_line(6, "  - {shape: box, min: [0, 0], max: [1, 0], spacing: 0.1, material: glass}"),
      "bad.yaml:6: body.0.max: max must be greater than min on every axis, but on y"},
@@ -149,11 +161,11 @@ const std::vector<BadScene> kBadScenes = {
     {"ShapeKeyMisspelt",
      replace_line(6, "  - {shape: disk, center: [0, 0], raduis: 1, spacing: 0.1, material: glass}"),
      "bad.yaml:6: body.0.raduis: unknown key 'raduis', did you mean 'radius'? (allowed: shape, "
-     "center, radius, spacing, mesh, material)"},
+     "center, radius, spacing, mesh, point_size, material)"},
     {"BoxKeyOnDisk",
      replace_line(6, "  - {shape: disk, min: [0, 0], radius: 1, spacing: 0.1, material: glass}"),
      "bad.yaml:6: body.0.min: unknown key 'min' (allowed: shape, center, radius, spacing, "
-     "mesh, material)"},
+     "mesh, point_size, material)"},
     {"RadiusZero",
      replace_line(6, "  - {shape: disk, center: [0, 0], radius: 0, spacing: 0.1, material: glass}"),
      "bad.yaml:6: body.0.radius: radius must be > 0, got 0 (allowed: > 0)"},
@@ -381,7 +393,13 @@ const std::vector<BadScene> kBadScenes = {
      "bad.yaml:11: measure.tips.0.at: expected a list of 2 numbers (one per axis), got 3 items"},
     {"MeasureTipUnknownKey",
      plus(measured("{name: a, at: [0.5, 0.5], direction: [1, 0], dir: [1, 0]}")),
-     "bad.yaml:11: measure.tips.0.dir: unknown key 'dir' (allowed: name, at, direction, front)"},
+     "bad.yaml:11: measure.tips.0.dir: unknown key 'dir' (allowed: name, at, direction, front, "
+     "region)"},
+    {"MeasureTipOutsideItsRegion",
+     plus(measured("{name: a, at: [0.5, 0.5], direction: [1, 0],\n"
+                   "       region: {shape: half-space, point: [0, 0.6], normal: [0, -1]}}")),
+     "bad.yaml:12: measure.tips.0.region: the notch tip [0.5, 0.5] lies outside its region "
+     "(allowed: a region that holds the notch tip)"},
     {"MeasureFrontIn2D",
      plus(measured("{name: a, at: [0.5, 0.5], direction: [1, 0], front: [0, 1]}")),
      "bad.yaml:11: measure.tips.0.front: front is the notch front's direction of a 3D scene"},

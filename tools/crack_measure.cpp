@@ -134,15 +134,19 @@ DamageGraph damage_graph(const ParticleStore& p, double threshold) {
   return g;
 }
 
-CrackPath crack_path(const DamageGraph& g, const ParticleStore& p, const Vec3& notch_tip) {
+CrackPath crack_path(const DamageGraph& g, const ParticleStore& p, const Vec3& notch_tip,
+                     const geometry::Shape* region) {
   CrackPath c;
   c.path.assign(g.size(), kInfinity);
+  std::vector<char> outside(g.size(), 0);
+  for (std::size_t n = 0; region && n < g.size(); ++n)
+    outside[n] = !region->contains(point_of(p.reference_position, g.particle[n]), p.dim());
   using Item = std::pair<double, std::int32_t>;
   std::priority_queue<Item, std::vector<Item>, std::greater<>> queue;
   for (std::size_t n = 0; n < g.size(); ++n) {
     const auto i = static_cast<std::size_t>(g.particle[n]);
     const double d = geometry::norm(point_of(p.reference_position, i) - notch_tip);
-    if (d > p.horizon[i]) continue;
+    if (d > p.horizon[i] || outside[n]) continue;
     c.path[n] = d;
     queue.emplace(d, static_cast<std::int32_t>(n));
   }
@@ -153,7 +157,7 @@ CrackPath crack_path(const DamageGraph& g, const ParticleStore& p, const Vec3& n
     for (auto l = g.offset[n]; l < g.offset[n + 1]; ++l) {
       const auto m = g.neighbor[l];
       const double through = d + g.length[l];
-      if (through >= c.path[m]) continue;
+      if (through >= c.path[m] || outside[m]) continue;
       c.path[m] = through;
       queue.emplace(through, m);
     }
@@ -203,6 +207,14 @@ double angle_between_deg(const Vec3& a, const Vec3& b) {
          std::numbers::pi;
 }
 
+/// The chord from the notch tip with its component along the notch front removed (none without a
+/// front): a through crack's angle in its plate, whatever the tip's height in the thickness.
+Vec3 across_front(const Vec3& chord, const std::optional<Vec3>& front) {
+  if (!front) return chord;
+  const Vec3 f = (1.0 / geometry::norm(*front)) * *front;
+  return chord - geometry::dot(chord, f) * f;
+}
+
 double rayleigh_speed_near(const ParticleStore& p, const std::vector<Material>& materials,
                            const Section& section, const Vec3& at) {
   std::size_t nearest = 0;
@@ -227,7 +239,7 @@ TipRow CrackTracker::measure_tip(const DamageGraph& g, const ParticleStore& p, s
                                  std::int64_t step, double time) {
   const Tip& tip = s_.tips[k];
   Track& t = tracks_[k];
-  const CrackPath crack = crack_path(g, p, tip.at);
+  const CrackPath crack = crack_path(g, p, tip.at, tip.region ? &*tip.region : nullptr);
   TipRow r{step, time, k, tip.at};
   double horizon = kInfinity;  // nothing cracked: never initiated
   if (crack.tip >= 0) {
@@ -237,7 +249,7 @@ TipRow CrackTracker::measure_tip(const DamageGraph& g, const ParticleStore& p, s
     horizon = p.horizon[i];
   }
   r.distance = geometry::norm(r.x - tip.at);
-  r.angle_deg = angle_between_deg(tip.direction, r.x - tip.at);
+  r.angle_deg = angle_between_deg(tip.direction, across_front(r.x - tip.at, tip.front));
   t.time.push_back(time);
   t.x.push_back(r.x);
   t.path.push_back(r.path_length);

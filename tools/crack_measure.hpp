@@ -8,6 +8,7 @@
 
 #include "engine/material_law.hpp"
 #include "engine/particles.hpp"
+#include "geometry/shapes.hpp"
 #include "geometry/vec.hpp"
 
 namespace dhpd::measure {
@@ -22,6 +23,9 @@ struct Tip {
   /// 3D: the notch front's direction. Damage apart only along the front (e.g. at the two faces
   /// of a plate, ahead of the middle) is one crack front, not two branches.
   std::optional<Vec3> front;
+  /// Only damage inside this shape belongs to the tip's crack (two notches whose cracks would
+  /// join through damage between them: an impact zone, a spall crack).
+  std::optional<geometry::Shape> region;
 };
 
 /// The `measure` block of a scene (cases/README.md, `measure`).
@@ -86,11 +90,13 @@ DamageGraph damage_graph(const ParticleStore& p, double threshold);
 
 /// The crack of one tip: the nodes reached from the particles within one horizon of the notch
 /// tip, with their path distance (seeded with the straight distance), and the farthest of them.
+/// With a `region`, only nodes inside it take part.
 struct CrackPath {
   std::vector<double> path;  ///< per node of the graph; +inf when not in this crack
   std::int32_t tip = -1;     ///< node farthest along the path, −1 when the crack is empty
 };
-CrackPath crack_path(const DamageGraph& g, const ParticleStore& p, const Vec3& notch_tip);
+CrackPath crack_path(const DamageGraph& g, const ParticleStore& p, const Vec3& notch_tip,
+                     const geometry::Shape* region = nullptr);
 
 /// Branches of a crack: its nodes binned by path distance in bins one horizon wide (the largest
 /// horizon of the crack), clusters of linked nodes within a bin, and the largest number of

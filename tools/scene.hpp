@@ -51,7 +51,9 @@ struct BodyPart {
   geometry::MeshSize mesh;  ///< Mesh: size, and grading when `graded`
   bool graded = false;      ///< Mesh: `mesh.grading` was given
   std::string points_file;  ///< PointsFile: the path, resolved against the scene's folder
-  std::string material;     ///< empty for a PointsFile part whose lines name their material
+  /// Mesh and PointsFile: Δx of a point from its cell measure (`point_size`, CMAME 2017 §6).
+  geometry::PointSize point_size = geometry::PointSize::EquivalentDiameter;
+  std::string material;  ///< empty for a PointsFile part whose lines name their material
   Location where;
 };
 

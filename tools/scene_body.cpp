@@ -11,8 +11,22 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const std::vector<std::string> kShapePartExtraKeys{"spacing", "mesh", "material"};
-const std::vector<std::string> kFilePartKeys{"points_file", "material"};
+const std::vector<std::string> kShapePartExtraKeys{"spacing", "mesh", "point_size", "material"};
+const std::vector<std::string> kFilePartKeys{"points_file", "point_size", "material"};
+
+/// `point_size: equivalent-diameter | cell-side` of a mesh or points-file part.
+void read_point_size(const MapView& map, BodyPart& part) {
+  const auto given = map.get("point_size");
+  if (!given) return;
+  if (part.kind == PartKind::Lattice)
+    given->fail(
+        "point_size applies to mesh and points-file parts; a lattice part's particle size is its "
+        "spacing",
+        "mesh or points_file parts only");
+  const std::vector<std::string> names(std::begin(geometry::kPointSizeNames),
+                                       std::end(geometry::kPointSizeNames));
+  part.point_size = static_cast<geometry::PointSize>(given->choice(names));
+}
 
 /// `mesh: {size: S, grading: {from: point, rate: r}}`; the size is checked against the box.
 void read_mesh(const Cursor& c, BodyPart& part, int dim) {
@@ -56,6 +70,7 @@ BodyPart read_shape_part(const Cursor& c, const Scene& s) {
     part.kind = PartKind::Mesh;
     read_mesh(*map.get("mesh"), part, s.dimension);
   }
+  read_point_size(map, part);
   part.material = material_name(map.require("material"), s);
   return part;
 }
@@ -75,6 +90,7 @@ BodyPart read_file_part(const Cursor& c, const Scene& s) {
   if (!fs::is_regular_file(part.points_file))
     file.fail(fmt::format("points file '{}' does not exist (looked for {})", given.string(),
                           part.points_file));
+  read_point_size(map, part);
   if (const auto material = map.get("material")) part.material = material_name(*material, s);
   return part;
 }

@@ -52,13 +52,14 @@ geometry::PointSet part_points(const Scene& s, std::size_t p) {
   }
   if (part.kind == PartKind::Mesh)
     return geometry::mesh_box(part.shape.bounds(s.dimension), s.dimension, part.mesh, material,
-                              index);
+                              index, part.point_size);
   geometry::PointsFileOptions options;
   options.dim = s.dimension;
   options.section = s.dimension == 2 ? s.thickness : (s.dimension == 1 ? s.area : 1.0);
   for (const auto& m : s.materials) options.materials.push_back(m.name);
   if (!part.material.empty()) options.default_material = material;
   options.part = index;
+  options.size_rule = part.point_size;
   return geometry::read_points_file(part.points_file, options);
 }
 

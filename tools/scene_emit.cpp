@@ -116,6 +116,9 @@ void emit_body(YAML::Emitter& out, const Scene& s) {
     if (part.kind == PartKind::Lattice)
       out << YAML::Key << "spacing" << YAML::Value << number_text(part.spacing);
     if (part.kind == PartKind::Mesh) emit_mesh(out, part, s.dimension);
+    if (part.kind != PartKind::Lattice)
+      out << YAML::Key << "point_size" << YAML::Value
+          << std::string(geometry::to_string(part.point_size));
     if (!part.material.empty()) out << YAML::Key << "material" << YAML::Value << part.material;
     out << YAML::EndMap;
   }
@@ -296,6 +299,10 @@ void emit_measure(YAML::Emitter& out, const Scene& s) {
     emit_key_point(out, "at", tip.at, s.dimension);
     emit_key_point(out, "direction", tip.direction, s.dimension);
     if (tip.front) emit_key_point(out, "front", *tip.front, s.dimension);
+    if (tip.region) {
+      out << YAML::Key << "region" << YAML::Value;
+      emit_region(out, *tip.region, s.dimension);
+    }
     out << YAML::EndMap;
   }
   out << YAML::EndSeq;

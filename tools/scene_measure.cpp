@@ -1,6 +1,7 @@
 // Reading the `measure` block (cases/README.md, `measure`; dhpd.md §9): thresholds, intervals,
 // notch tips and the published values echoed into summary.json.
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <cctype>
@@ -35,7 +36,7 @@ void read_tips(const Cursor& c, int dim, MeasureSpec& spec) {
     c.fail("give at least one notch tip", "a list of {name: ..., at: [...], direction: [...]}");
   std::vector<Location> names;
   for (const auto& item : items) {
-    const MapView map(item, {"name", "at", "direction", "front"});
+    const MapView map(item, {"name", "at", "direction", "front", "region"});
     const Cursor name = map.require("name");
     measure::Tip tip;
     tip.name = tip_name(name);
@@ -51,6 +52,13 @@ void read_tips(const Cursor& c, int dim, MeasureSpec& spec) {
     if (const auto front = map.get("front")) {
       if (dim != 3) front->fail("front is the notch front's direction of a 3D scene", "3D only");
       tip.front = nonzero_vector(*front, dim);
+    }
+    if (const auto region = map.get("region")) {
+      tip.region = read_shape(*region, dim);
+      if (!tip.region->contains(tip.at, dim))
+        region->fail(fmt::format("the notch tip [{}] lies outside its region",
+                                 fmt::join(tip.at.begin(), tip.at.begin() + dim, ", ")),
+                     "a region that holds the notch tip");
     }
     names.push_back(name.where());
     spec.tip_at.push_back(at.where());

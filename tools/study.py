@@ -26,11 +26,18 @@ Study file (YAML):
                                      # distance between the reference's path of one and the
                                      # mirrored path of the other is its own tip-path spread,
                                      # the floor below which tip_path errors mean nothing
+    angles: {early_distance: 0.02}   # optional: every run's crack angle per tip in angles.csv
+                                     # and study.md, early (the median chord angle while the
+                                     # tip lay early_distance/2 to early_distance m from the
+                                     # notch tip) and final (the chord to the last tip), with
+                                     # the scene's published angle
 A variant may name its own `case`, fixed `set` overrides and a `grid` of overrides whose
 cartesian product gives one run each. Metrics: angle_deg (largest |Δ angle| over the tips),
 initiation (largest |Δ t_init| / t_init,ref), tip_path (largest distance, m, from a variant's
 tip positions to the reference tip path), damage (∫|φ − φ_ref| dV / ∫φ_ref dV at the end),
-l2_displacement (‖u − u_ref‖ / ‖u_ref‖ at the end, ‖u‖² = Σ u·u V).
+l2_displacement (‖u − u_ref‖ / ‖u_ref‖ at the end, ‖u‖² = Σ u·u V). A variant of another
+dimension than the reference (a 3D plate against a 2D reference) gets only angle_deg and
+initiation; tip_path, damage and l2_displacement compare positions and are left empty.
 """
 import argparse
 import csv
@@ -45,6 +52,8 @@ import time
 import numpy as np
 import yaml
 from scipy.spatial import cKDTree  # nearest reference particle
+
+import study_angles
 
 METRICS = ["angle_deg", "initiation", "tip_path", "damage", "l2_displacement"]
 
@@ -80,7 +89,7 @@ def load_study(path):
         if key not in study:
             fail(f"{path}: missing key '{key}'")
     unknown = set(study) - {"name", "case", "reference", "variants", "error", "budget", "threads",
-                            "frames", "mirror"}
+                            "frames", "mirror", "angles"}
     if unknown:
         fail(f"{path}: unknown key(s) {sorted(unknown)}")
     if study.get("error", "angle_deg") not in METRICS:
@@ -90,6 +99,9 @@ def load_study(path):
             fail(f"{path}: budget key '{key}' is not one of {METRICS}")
     if "mirror" in study:
         check_mirror(path, study["mirror"])
+    if "angles" in study and not study_angles.valid(study["angles"]):
+        fail(f"{path}: angles must be {{early_distance: NUMBER > 0}} (m), "
+             f"not {study['angles']!r}")
     return study
 
 
@@ -299,10 +311,17 @@ def measure_run(dhpd, label, case, overrides, out_dir, threads=None):
     return row, summary
 
 
+def is_3d(frame):
+    return frame is not None and float(np.ptp(frame["x"][:, 2])) > 0.0
+
+
 def compare(row, summary, ref_row, ref_summary, ref_frame, ref_paths):
     row["angle_deg"], row["initiation"] = crack_errors(summary, ref_summary)
+    frame = last_frame(row["out"])
+    if is_3d(frame) != is_3d(ref_frame):
+        return  # positions of another dimension: only the angle and initiation compare
     row["tip_path"] = path_distance(tip_paths(row["out"]), ref_paths)
-    row["damage"], row["l2_displacement"] = field_errors(last_frame(row["out"]), ref_frame)
+    row["damage"], row["l2_displacement"] = field_errors(frame, ref_frame)
 
 
 def fmt(value, digits=4):
@@ -347,6 +366,8 @@ def write_outputs(study, rows, ref_row, out):
                      + (f"**{best['label']}**, {best['wall_s']:.2f} s "
                         f"({ref_row['wall_s'] / best['wall_s']:.1f}× faster than the reference)."
                         if best else "none of the variants."))
+    if "angles" in study:
+        lines += study_angles.report(study["angles"]["early_distance"], [ref_row] + rows, out)
     lines += ["", "![error against time](pareto.png)", ""]
     with open(os.path.join(out, "study.md"), "w") as f:
         f.write("\n".join(lines))
@@ -379,8 +400,10 @@ def main():
     runs = [(label, case, {**quiet, **overrides})
             for label, case, overrides in
             (r for v in study["variants"] for r in expand(here, study["case"], v))]
+    early = study.get("angles", {}).get("early_distance", 0.0)
     ref_row, ref_summary = measure_run(args.dhpd, ref_label, ref_case, ref_set,
                                        os.path.join(out, "run-reference"), threads)
+    ref_row["angles"] = study_angles.crack_angles(ref_row["out"], ref_summary, early)
     ref_frame, ref_paths = last_frame(ref_row["out"]), tip_paths(ref_row["out"])
     rows = []
     for k, (label, case, overrides) in enumerate(runs):
@@ -388,6 +411,7 @@ def main():
         row, summary = measure_run(args.dhpd, label, case, overrides,
                                    os.path.join(out, f"run-{k:02d}"), threads)
         compare(row, summary, ref_row, ref_summary, ref_frame, ref_paths)
+        row["angles"] = study_angles.crack_angles(row["out"], summary, early)
         rows.append(row)
     best = write_outputs(study, rows, ref_row, out)
     print(f"dhpd study: wrote {out}/study.csv, study.md, pareto.png"
