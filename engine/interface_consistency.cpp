@@ -69,7 +69,7 @@ class HorizonTests {
         m[a] += w * (p_.reference_position[a][j] - p_.reference_position[a][u]);
     }
     const double first = std::sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
-    return complete_[i] = v > 0.0 && first < kCompleteHorizonMoment * v * p_.horizon[u];
+    return complete_[i] = v > 0.0 && first < complete_horizon_moment(p_.dim()) * v * p_.horizon[u];
   }
 
   /// Calls f(partner) for every own neighbour and every owner of a bond on i.
@@ -79,15 +79,25 @@ class HorizonTests {
     for (auto e = d_.begin(i); e < d_.end(i); ++e) f(b_.owner[d_.bond[e]]);
   }
 
-  /// Near a horizon jump, complete, and every partner complete.
-  bool constrained(std::int32_t i) {
-    const auto u = static_cast<std::size_t>(i);
-    bool jump = false, partners_complete = true;
-    each_partner(u, [&](std::int32_t j) {
-      const double a = p_.horizon[u], c = p_.horizon[static_cast<std::size_t>(j)];
+  /// A bond (own or dual) to a particle whose horizon differs by kHorizonJumpRatio or more.
+  bool at_jump(std::size_t i) const {
+    bool jump = false;
+    each_partner(i, [&](std::int32_t j) {
+      const double a = p_.horizon[i], c = p_.horizon[static_cast<std::size_t>(j)];
       jump = jump || std::max(a, c) >= kHorizonJumpRatio * std::min(a, c);
     });
-    if (!jump || !complete(i)) return false;
+    return jump;
+  }
+
+  /// At a jump or bonded to a particle at one (so the correction has bonds on every side),
+  /// complete, and every partner complete.
+  bool constrained(std::int32_t i) {
+    const auto u = static_cast<std::size_t>(i);
+    bool near = at_jump(u);
+    if (!near)
+      each_partner(u, [&](std::int32_t j) { near = near || at_jump(static_cast<std::size_t>(j)); });
+    if (!near || !complete(i)) return false;
+    bool partners_complete = true;
     each_partner(u, [&](std::int32_t j) { partners_complete = partners_complete && complete(j); });
     return partners_complete;
   }
@@ -126,53 +136,66 @@ std::vector<double> third_moment(const BondList& b, const DualList& d, const Par
 
 namespace {
 
-/// Tikhonov weight: the solve is (M + ε diag M) x = rhs, which keeps the factors bounded where a
-/// particle's bonds cannot cancel part of its moment (that part stays as a residual).
-constexpr double kRegularization = 1e-6;
+/// The conjugate-gradient solve of (M + R) x = rhs, with C components per particle fixed at
+/// compile time: M = Σ_b K_b a_b a_bᵀ, R the regularization blocks γ (D_p + tr(D_p)/C I) with D_p
+/// the diagonal blocks of M, preconditioned by the inverses of D_p + R_p.
+template <int C>
+struct BlockSolver {
+  using Vec = Eigen::Matrix<double, C, 1>;
+  using Mat = Eigen::Matrix<double, C, C>;
+  const std::vector<Unknown>& us;
+  std::vector<Mat> reg, inv;
 
-/// y = (M + R) x with M = Σ_b K_b a_b a_bᵀ (block rows of c per constrained particle) and R the
-/// regularization blocks ε (D_p + tr(D_p)/c I), D_p the diagonal blocks of M.
-void apply(const std::vector<Unknown>& us, const std::vector<Block>& reg, const Eigen::VectorXd& x,
-           Eigen::VectorXd& y, int c) {
-  for (std::size_t k = 0; k < reg.size(); ++k) {
-    const auto at = c * static_cast<Eigen::Index>(k);
-    y.segment(at, c) = reg[k] * x.segment(at, c);
+  BlockSolver(const std::vector<Unknown>& unknowns, const std::vector<Block>& diag,
+              const std::vector<int>& touched, double gamma)
+      : us(unknowns), reg(diag.size()), inv(diag.size()) {
+    for (std::size_t k = 0; k < diag.size(); ++k) {
+      const Mat D = diag[k];
+      reg[k] = gamma * (D + (D.trace() / C) * Mat::Identity());
+      inv[k] = touched[k] ? Mat((D + reg[k]).ldlt().solve(Mat::Identity())) : Mat::Zero();
+    }
   }
-  for (const auto& u : us) {
-    const double s = u.N.dot(u.vj * x.segment(c * u.li, c) - u.vi * x.segment(c * u.lj, c));
-    y.segment(c * u.li, c) += (u.K * u.vj * s) * u.N;
-    y.segment(c * u.lj, c) -= (u.K * u.vi * s) * u.N;
-  }
-}
 
-/// Solves M x = rhs by conjugate gradients with the inverse diagonal blocks as preconditioner.
-int solve(const std::vector<Unknown>& us, const std::vector<Block>& diag,
-          const std::vector<Block>& inv_diag, const Eigen::VectorXd& rhs, Eigen::VectorXd& x,
-          int c) {
-  x.setZero(rhs.size());
-  Eigen::VectorXd r = rhs, z(rhs.size()), q(rhs.size());
-  auto precondition = [&](const Eigen::VectorXd& in, Eigen::VectorXd& out) {
-    for (std::size_t k = 0; k < inv_diag.size(); ++k)
-      out.segment(c * static_cast<Eigen::Index>(k), c) =
-          inv_diag[k] * in.segment(c * static_cast<Eigen::Index>(k), c);
-  };
-  precondition(r, z);
-  Eigen::VectorXd dir = z;
-  double rz = r.dot(z);
-  const double stop = 1e-13 * rhs.norm();
-  int it = 0;
-  for (; it < 5000 && r.norm() > stop; ++it) {
-    apply(us, diag, dir, q, c);
-    const double alpha = rz / dir.dot(q);
-    x += alpha * dir;
-    r -= alpha * q;
+  static auto at(Eigen::VectorXd& v, std::int32_t k) { return v.template segment<C>(C * k); }
+  static auto at(const Eigen::VectorXd& v, std::int32_t k) { return v.template segment<C>(C * k); }
+
+  void apply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
+    for (std::size_t k = 0; k < reg.size(); ++k)
+      at(y, static_cast<std::int32_t>(k)) = reg[k] * at(x, static_cast<std::int32_t>(k));
+    for (const auto& u : us) {
+      const Vec N = u.N.template head<C>();
+      const double s = N.dot(u.vj * at(x, u.li) - u.vi * at(x, u.lj));
+      at(y, u.li) += (u.K * u.vj * s) * N;
+      at(y, u.lj) -= (u.K * u.vi * s) * N;
+    }
+  }
+
+  void precondition(const Eigen::VectorXd& in, Eigen::VectorXd& out) const {
+    for (std::size_t k = 0; k < inv.size(); ++k)
+      at(out, static_cast<std::int32_t>(k)) = inv[k] * at(in, static_cast<std::int32_t>(k));
+  }
+
+  int solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& x) const {
+    x.setZero(rhs.size());
+    Eigen::VectorXd r = rhs, z(rhs.size()), q(rhs.size());
     precondition(r, z);
-    const double rz_next = r.dot(z);
-    dir = z + (rz_next / rz) * dir;
-    rz = rz_next;
+    Eigen::VectorXd dir = z;
+    double rz = r.dot(z);
+    const double stop = 1e-4 * rhs.norm();  // the moments to 1e-4 of what they were
+    int it = 0;
+    for (; it < 2000 && r.norm() > stop; ++it) {
+      apply(dir, q);
+      const double alpha = rz / dir.dot(q);
+      x += alpha * dir;
+      r -= alpha * q;
+      precondition(r, z);
+      const double rz_next = r.dot(z);
+      dir = z + (rz_next / rz) * dir;
+      rz = rz_next;
+    }
+    return it;
   }
-  return it;
-}
+};
 
 /// Connected components of the constrained particles through the unknowns (union-find).
 std::vector<std::int32_t> components_of(const std::vector<Unknown>& us, std::size_t n) {
@@ -213,6 +236,93 @@ void remove_net_moment(Eigen::VectorXd& rhs, const std::vector<std::int32_t>& co
 
 }  // namespace
 
+namespace {
+
+/// The system of one correction: unknown bonds, constrained particles and their moments.
+struct System {
+  int c = 0;
+  std::vector<std::int32_t> constrained;
+  std::vector<Unknown> us;
+  std::vector<int> touched;  ///< unknowns per constrained particle
+  std::vector<Block> diag;   ///< diagonal blocks of M
+  Eigen::VectorXd rhs;       ///< −T, less the part no factor can change
+  double before = 0.0;       ///< largest |T| before
+};
+
+System assemble(const BondList& b, const DualList& d, const ParticleStore& p,
+                const std::vector<double>& C, std::vector<std::int32_t> constrained) {
+  System sys;
+  sys.c = components(p.dim());
+  const int c = sys.c;
+  sys.constrained = std::move(constrained);
+  const std::size_t n = sys.constrained.size();
+  std::unordered_map<std::int32_t, std::int32_t> local;
+  for (std::size_t k = 0; k < n; ++k) local[sys.constrained[k]] = static_cast<std::int32_t>(k);
+  sys.touched.assign(n, 0);
+  sys.diag.assign(n, Block::Zero(c, c));
+  for (std::size_t k = 0; k < n; ++k) {
+    const auto i = static_cast<std::size_t>(sys.constrained[k]);
+    for (auto e = b.begin(i); e < b.end(i); ++e) {
+      const auto it = local.find(b.neighbor[e]);
+      if (it == local.end()) continue;
+      const auto j = static_cast<std::size_t>(b.neighbor[e]);
+      const Unknown u{e,
+                      static_cast<std::int32_t>(k),
+                      it->second,
+                      C[i] * b.weight[e],
+                      p.volume[i],
+                      p.volume[j],
+                      moment_of(p, i, j)};
+      sys.diag[k] += (u.K * u.vj * u.vj) * u.N * u.N.transpose();
+      sys.diag[static_cast<std::size_t>(u.lj)] += (u.K * u.vi * u.vi) * u.N * u.N.transpose();
+      ++sys.touched[k], ++sys.touched[static_cast<std::size_t>(it->second)];
+      sys.us.push_back(u);
+    }
+  }
+  sys.rhs = Eigen::VectorXd::Zero(c * static_cast<Eigen::Index>(n));
+  std::vector<double> volume(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    const auto i = static_cast<std::size_t>(sys.constrained[k]);
+    const auto t = third_moment(b, d, p, C, i);
+    volume[k] = p.volume[i];
+    for (int a = 0; a < c; ++a) sys.rhs(c * static_cast<Eigen::Index>(k) + a) = -t[a];
+    sys.before = std::max(sys.before, sys.rhs.segment(c * static_cast<Eigen::Index>(k), c).norm());
+    // Particles without unknowns drop out (their x stays zero and is never used).
+    if (!sys.touched[k]) sys.rhs.segment(c * static_cast<Eigen::Index>(k), c).setZero();
+  }
+  remove_net_moment(sys.rhs, components_of(sys.us, n), volume, sys.touched, c);
+  return sys;
+}
+
+/// λ_b of every unknown from a solve with Tikhonov weight `gamma`.
+template <int C>
+std::vector<double> factors_of(const System& sys, double gamma, int& iterations) {
+  const BlockSolver<C> solver(sys.us, sys.diag, sys.touched, gamma);
+  Eigen::VectorXd x;
+  iterations += solver.solve(sys.rhs, x);
+  std::vector<double> lambda;
+  lambda.reserve(sys.us.size());
+  for (const auto& u : sys.us) {
+    const Eigen::Matrix<double, C, 1> N = u.N.template head<C>();
+    lambda.push_back(
+        N.dot(u.vj * x.template segment<C>(C * u.li) - u.vi * x.template segment<C>(C * u.lj)));
+  }
+  return lambda;
+}
+
+std::vector<double> factors_with(const System& sys, double gamma, int& iterations) {
+  switch (sys.c) {
+    case 1:
+      return factors_of<1>(sys, gamma, iterations);
+    case 4:
+      return factors_of<4>(sys, gamma, iterations);
+    default:
+      return factors_of<10>(sys, gamma, iterations);
+  }
+}
+
+}  // namespace
+
 InterfaceCorrection correct_level_interfaces(BondList& b, const DualList& d, const ParticleStore& p,
                                              const std::vector<double>& C,
                                              const std::vector<std::int32_t>& region) {
@@ -226,73 +336,38 @@ InterfaceCorrection correct_level_interfaces(BondList& b, const DualList& d, con
       if (in.has(b.neighbor[e])) b.stiffness[e] = 1.0;
   }
   HorizonTests tests(b, d, p);
-  std::unordered_map<std::int32_t, std::int32_t> local;
   std::vector<std::int32_t> constrained;
   for (std::size_t k = 0; k < n; ++k)
     if (tests.constrained(particle(k))) constrained.push_back(particle(k));
-  for (std::size_t k = 0; k < constrained.size(); ++k)
-    local[constrained[k]] = static_cast<std::int32_t>(k);
-  // Unknowns: the bonds between constrained particles; particles without one drop out.
-  const int c = components(p.dim());
-  std::vector<Unknown> us;
-  std::vector<int> touched(constrained.size(), 0);
-  for (std::size_t k = 0; k < constrained.size(); ++k) {
-    const auto i = static_cast<std::size_t>(constrained[k]);
-    for (auto e = b.begin(i); e < b.end(i); ++e) {
-      const auto it = local.find(b.neighbor[e]);
-      if (it == local.end()) continue;
-      const auto j = static_cast<std::size_t>(b.neighbor[e]);
-      us.push_back({e, static_cast<std::int32_t>(k), it->second, C[i] * b.weight[e], p.volume[i],
-                    p.volume[j], moment_of(p, i, j)});
-      ++touched[k], ++touched[static_cast<std::size_t>(it->second)];
-    }
+  const System sys = assemble(b, d, p, C, std::move(constrained));
+  if (sys.us.empty()) return out;
+  // The weakest damping whose factors stay within bounds but for a few (kClippedShare): where
+  // the bonds cannot cancel a moment with moderate factors, a stronger Tikhonov weight leaves part
+  // of it (never a soft or negative bond); the remaining few are clipped.
+  std::vector<double> lambda;
+  for (const double gamma : {1e-3, 1e-1}) {
+    lambda = factors_with(sys, gamma, out.iterations);
+    const auto outside = std::count_if(lambda.begin(), lambda.end(), [](double l) {
+      return l < kSmallestFactor - 1.0 || l > kLargestFactor - 1.0;
+    });
+    if (static_cast<double>(outside) <= kClippedShare * static_cast<double>(lambda.size())) break;
   }
-  if (us.empty()) return out;
-  std::vector<Block> diag(constrained.size(), Block::Zero(c, c)), inv_diag(constrained.size());
-  std::vector<Block> diag_of_m;
-  for (const auto& u : us) {
-    diag[static_cast<std::size_t>(u.li)] += (u.K * u.vj * u.vj) * u.N * u.N.transpose();
-    diag[static_cast<std::size_t>(u.lj)] += (u.K * u.vi * u.vi) * u.N * u.N.transpose();
-  }
-  diag_of_m = diag;
-  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(c * static_cast<Eigen::Index>(constrained.size()));
-  double before = 0.0;
-  for (std::size_t k = 0; k < constrained.size(); ++k) {
-    const auto t = third_moment(b, d, p, C, static_cast<std::size_t>(constrained[k]));
-    for (int a = 0; a < c; ++a) rhs(c * static_cast<Eigen::Index>(k) + a) = -t[a];
-    before = std::max(before, rhs.segment(c * static_cast<Eigen::Index>(k), c).norm());
-    // Particles without unknowns drop out (their x stays zero and is never used).
-    auto& D = diag[k];
-    D = kRegularization * (D + (D.trace() / c) * Block::Identity(c, c));  // now the R block
-    inv_diag[k] = touched[k] ? Block((diag_of_m[k] + D).ldlt().solve(Block::Identity(c, c)))
-                             : Block::Zero(c, c);
-    if (!touched[k]) rhs.segment(c * static_cast<Eigen::Index>(k), c).setZero();
-  }
-  std::vector<double> volume(constrained.size());
-  for (std::size_t k = 0; k < constrained.size(); ++k)
-    volume[k] = p.volume[static_cast<std::size_t>(constrained[k])];
-  remove_net_moment(rhs, components_of(us, constrained.size()), volume, touched, c);
-  Eigen::VectorXd x;
-  out.iterations = solve(us, diag, inv_diag, rhs, x, c);
-  for (const auto& u : us) {
-    const double solved = u.N.dot(u.vj * x.segment(c * u.li, c) - u.vi * x.segment(c * u.lj, c));
-    // Where the bonds cannot cancel a moment with moderate factors, the factor is clipped: the
-    // correction is then partial there, never a soft or negative bond.
-    const double lambda = std::clamp(solved, kSmallestFactor - 1.0, kLargestFactor - 1.0);
-    out.clipped += lambda != solved ? 1 : 0;
-    b.stiffness[static_cast<std::size_t>(u.bond)] = 1.0 + lambda;
-    out.smallest = std::min(out.smallest, 1.0 + lambda);
-    out.largest = std::max(out.largest, 1.0 + lambda);
+  for (std::size_t k = 0; k < sys.us.size(); ++k) {
+    const double clipped = std::clamp(lambda[k], kSmallestFactor - 1.0, kLargestFactor - 1.0);
+    out.clipped += clipped != lambda[k] ? 1 : 0;
+    b.stiffness[static_cast<std::size_t>(sys.us[k].bond)] = 1.0 + clipped;
+    out.smallest = std::min(out.smallest, 1.0 + clipped);
+    out.largest = std::max(out.largest, 1.0 + clipped);
   }
   double after = 0.0;
-  for (std::size_t k = 0; k < constrained.size(); ++k) {
-    if (!touched[k]) continue;
-    const auto t = third_moment(b, d, p, C, static_cast<std::size_t>(constrained[k]));
-    after = std::max(after, Eigen::Map<const Eigen::VectorXd>(t.data(), c).norm());
+  for (std::size_t k = 0; k < sys.constrained.size(); ++k) {
+    if (!sys.touched[k]) continue;
+    const auto t = third_moment(b, d, p, C, static_cast<std::size_t>(sys.constrained[k]));
+    after = std::max(after, Eigen::Map<const Eigen::VectorXd>(t.data(), sys.c).norm());
   }
-  out.particles = constrained.size();
-  out.bonds = us.size();
-  out.residual = before > 0.0 ? after / before : 0.0;
+  out.particles = sys.constrained.size();
+  out.bonds = sys.us.size();
+  out.residual = sys.before > 0.0 ? after / sys.before : 0.0;
   return out;
 }
 

@@ -24,13 +24,18 @@ struct InterfaceCorrection {
 /// Bounds on a bond's stiffness factor (the solve asks for more only where levels are mixed
 /// cell by cell; compact refined zones measured 0.65–1.40).
 inline constexpr double kSmallestFactor = 0.5, kLargestFactor = 2.0;
+/// The share of factors that may be clipped before the solve is damped further.
+inline constexpr double kClippedShare = 0.01;
 
 /// Horizons whose ratio reaches this are a jump (refinement levels: 2; a mesh's neighbours: less).
 inline constexpr double kHorizonJumpRatio = 1.5;
 /// A horizon is complete (no free surface or pre-crack inside it) when the first moment of its
-/// volume, |Σ β V_j ξ_j| / (δ Σ β V_j), stays below this (0–0.11 measured inside mixed-level
-/// lattices, up to 0.56 at a free surface).
-inline constexpr double kCompleteHorizonMoment = 0.15;
+/// volume, |Σ β V_j ξ_j| / (δ Σ β V_j), stays below this: in 2D and 3D 0.15 (0–0.11 measured
+/// inside mixed-level lattices, up to 0.56 at a free surface); in 1D, with three neighbours a
+/// side, 0.25 (0.2 next to a 2:1 jump, about 0.5 at a free end).
+inline double complete_horizon_moment(int dim) {
+  return dim == 1 ? 0.25 : 0.15;
+}
 
 /// Recomputes bonds.stiffness for the bonds with both ends in `region` (sorted particle indices;
 /// every particle when empty): factors reset to 1, then, over the particles of the region that

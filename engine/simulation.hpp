@@ -162,9 +162,6 @@ class Simulation {
   void rebuild_rows(EventScratch& ev, RefinementEvent& out);
   void finish_event(EventScratch& ev, RefinementEvent& out);
   bool corrects_interfaces() const;
-  /// The correction over `dirty` and its bond partners; returns that region.
-  std::vector<std::int32_t> correct_interfaces_near(const std::vector<std::int32_t>& dirty,
-                                                    RefinementEvent& out);
   void enforce_prescribed_velocity();
   double boundary_power() const;
   /// Throws InstabilityError; a NaN `energy` reports a non-finite state.

@@ -92,26 +92,13 @@ bool Simulation::corrects_interfaces() const {
   return setup_.interface_correction && setup_.model == ForceModel::DualHorizon;
 }
 
-std::vector<std::int32_t> Simulation::correct_interfaces_near(
-    const std::vector<std::int32_t>& dirty, RefinementEvent& out) {
-  // Bonds with both ends in the region are solved again; the others keep their factors, so the
-  // particles outside stay consistent (their bonds do not change).
-  std::vector<std::int32_t> region(dirty);
-  for (const auto i : dirty) {
-    const auto u = static_cast<std::size_t>(i);
-    for (auto k = bonds_.begin(u); k < bonds_.end(u); ++k) region.push_back(bonds_.neighbor[k]);
-    for (auto e = dual_.begin(u); e < dual_.end(u); ++e)
-      region.push_back(bonds_.owner[dual_.bond[e]]);
-  }
-  std::sort(region.begin(), region.end());
-  region.erase(std::unique(region.begin(), region.end()), region.end());
-  out.interfaces = correct_level_interfaces(bonds_, dual_, p_, C_, region);
-  return region;
-}
-
 void Simulation::finish_event(EventScratch& ev, RefinementEvent& out) {
   const auto& plan = ev.plan;
-  if (corrects_interfaces()) ev.dirty = correct_interfaces_near(ev.dirty, out);
+  // The rows the event touched hold every bond that changed: bonds with both ends among them are
+  // solved again; the others keep their factors, and particles outside keep their bonds, so they
+  // stay consistent (docs/theory.md §4).
+  if (corrects_interfaces())
+    out.interfaces = correct_level_interfaces(bonds_, dual_, p_, C_, ev.dirty);
   il_.own_slot.resize(bonds_.slots(), -1);
   il_.dual_slot.resize(bonds_.slots(), -1);
   for (const auto i : ev.dirty)

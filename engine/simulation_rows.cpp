@@ -46,9 +46,10 @@ std::vector<std::int32_t> Simulation::event_energy_rows(const SplitPlan& plan) c
   // Rows whose energy an event can change: the parents' and their neighbours' (owners of bonds on
   // a parent lie within a horizon of it), and those reaching a child (within a cell of its parent).
   std::vector<std::int32_t> rows, found;
-  // With the interface correction the factors of bonds up to two more bond lengths out change.
+  // With the interface correction the factors of bonds between touched rows change too: their
+  // owners lie up to one more bond length out.
   const double widest =
-      (corrects_interfaces() ? 3.0 : 1.0) * (max_horizon_ + reach_) * (1.0 + 1e-9);
+      (corrects_interfaces() ? 2.0 : 1.0) * (max_horizon_ + reach_) * (1.0 + 1e-9);
   for (const auto q : plan.parents) {
     const auto u = static_cast<std::size_t>(q);
     grid_->within(point_of(p_.reference_position, u), widest + 2.0 * p_.spacing[u], found);

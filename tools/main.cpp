@@ -92,7 +92,8 @@ int main(int argc, char** argv) {
   dhpd::StudyOptions study_opt;
   auto* study = app.add_subcommand(
       "study",
-      "what accuracy costs in time: run a study's variants, write study.csv/.md, pareto.png");
+      "what accuracy costs in time: run a study's variants, write study.csv/.md, pareto.png "
+      "(exit 1 if a variant misses the study's criteria)");
   study->add_option("study", study_opt.study_file, "study file (YAML, see tools/study.py)")
       ->required();
   study->add_option("-o,--out", study_opt.directory, "output folder (default study-NAME)");

@@ -31,11 +31,20 @@ Study file (YAML):
                                      # tip lay early_distance/2 to early_distance m from the
                                      # notch tip) and final (the chord to the last tip), with
                                      # the scene's published angle
+    criteria: {broken_bonds: 0.25, branching: 0.1}   # optional: limits every variant must meet;
+                                     # study.md lists the misses and `dhpd study` exits 1
 A variant may name its own `case`, fixed `set` overrides and a `grid` of overrides whose
 cartesian product gives one run each. Metrics: angle_deg (largest |Δ angle| over the tips),
 initiation (largest |Δ t_init| / t_init,ref), tip_path (largest distance, m, from a variant's
 tip positions to the reference tip path), damage (∫|φ − φ_ref| dV / ∫φ_ref dV at the end),
-l2_displacement (‖u − u_ref‖ / ‖u_ref‖ at the end, ‖u‖² = Σ u·u V). A variant of another
+l2_displacement (‖u − u_ref‖ / ‖u_ref‖ at the end, ‖u‖² = Σ u·u V), broken_bonds (|B − B_ref| /
+B_ref at the end), branching (largest |Δ t_B1| / t_B1,ref; infinite when only one run branches),
+path_both_ways (tip_path also from the reference's tips to the variant's path), crack_distance
+(symmetric Hausdorff distance, m, between the two runs' cracked particles, φ ≥ 0.35: robust to
+which branch a tip follows), spurious_damage
+(the variant's cracked volume, φ ≥ 0.35, farther than two of its coarsest spacings from every
+particle the reference damaged to 0.1, over its cracked volume), momentum (largest drift of a
+momentum component over the history, over Σ m|v| of the last frame). A variant of another
 dimension than the reference (a 3D plate against a 2D reference) gets only angle_deg and
 initiation; tip_path, damage and l2_displacement compare positions and are left empty.
 """
@@ -51,11 +60,12 @@ import time
 
 import numpy as np
 import yaml
-from scipy.spatial import cKDTree  # nearest reference particle
 
 import study_angles
+from study_metrics import compare, distance_to_polyline, last_frame, tip_paths
 
-METRICS = ["angle_deg", "initiation", "tip_path", "damage", "l2_displacement"]
+METRICS = ["angle_deg", "initiation", "tip_path", "damage", "l2_displacement", "broken_bonds",
+           "branching", "path_both_ways", "crack_distance", "spurious_damage", "momentum"]
 
 
 def fail(message):
@@ -89,14 +99,17 @@ def load_study(path):
         if key not in study:
             fail(f"{path}: missing key '{key}'")
     unknown = set(study) - {"name", "case", "reference", "variants", "error", "budget", "threads",
-                            "frames", "mirror", "angles"}
+                            "frames", "mirror", "angles", "criteria"}
     if unknown:
         fail(f"{path}: unknown key(s) {sorted(unknown)}")
     if study.get("error", "angle_deg") not in METRICS:
         fail(f"{path}: error '{study['error']}' is not one of {METRICS}")
-    for key in study.get("budget", {}):
-        if key not in METRICS:
-            fail(f"{path}: budget key '{key}' is not one of {METRICS}")
+    for section in ("budget", "criteria"):
+        for key, limit in study.get(section, {}).items():
+            if key not in METRICS:
+                fail(f"{path}: {section} key '{key}' is not one of {METRICS}")
+            if isinstance(limit, bool) or not isinstance(limit, (int, float)) or limit < 0:
+                fail(f"{path}: {section}.{key} must be a number >= 0, not {limit!r}")
     if "mirror" in study:
         check_mirror(path, study["mirror"])
     if "angles" in study and not study_angles.valid(study["angles"]):
@@ -151,103 +164,6 @@ def run_one(dhpd, case, overrides, out_dir, threads):
     with open(os.path.join(out_dir, "summary.json")) as f:
         summary = json.load(f)
     return summary, wall, usage.ru_maxrss / 1024.0
-
-
-def last_frame(out_dir):
-    """Reference positions, volumes, displacement and damage of the run's last frame."""
-    import vtk
-    from vtk.util.numpy_support import vtk_to_numpy
-
-    pvd = [f for f in os.listdir(out_dir) if f.endswith(".pvd")]
-    frames = sorted(f for f in os.listdir(out_dir) if f.endswith(".vtu"))
-    if not pvd or not frames:
-        return None
-    reader = vtk.vtkXMLUnstructuredGridReader()
-    reader.SetFileName(os.path.join(out_dir, frames[-1]))
-    reader.Update()
-    grid = reader.GetOutput()
-    data = grid.GetPointData()
-
-    def field(name):
-        array = data.GetArray(name)
-        return None if array is None else vtk_to_numpy(array)
-
-    u = field("displacement")
-    x = vtk_to_numpy(grid.GetPoints().GetData()) - u
-    return {"x": x, "u": u, "volume": field("volume"), "damage": field("damage")}
-
-
-def tip_paths(out_dir):
-    """Tip positions per tip name from cracks.csv (empty when the scene measures nothing)."""
-    path = os.path.join(out_dir, "cracks.csv")
-    paths = {}
-    if not os.path.exists(path):
-        return paths
-    with open(path) as f:
-        for row in csv.DictReader(f):
-            paths.setdefault(row["tip"], []).append(
-                [float(row["x"]), float(row["y"]), float(row["z"])])
-    return {k: np.array(v) for k, v in paths.items()}
-
-
-def crack_errors(summary, ref_summary):
-    """Largest angle difference (deg) and relative initiation-time difference over the tips."""
-    ref = {c["name"]: c for c in ref_summary.get("cracks", [])}
-    angle, initiation = None, None
-    for crack in summary.get("cracks", []):
-        r = ref.get(crack["name"])
-        if r is None:
-            continue
-        if crack.get("angle_deg") is not None and r.get("angle_deg") is not None:
-            angle = max(angle or 0.0, abs(crack["angle_deg"] - r["angle_deg"]))
-        t, tr = crack.get("initiation_time"), r.get("initiation_time")
-        if t is not None and tr:
-            initiation = max(initiation or 0.0, abs(t - tr) / tr)
-    return angle, initiation
-
-
-def distance_to_polyline(points, line):
-    """Distance of each point to the polyline through `line` (consecutive tip positions)."""
-    if len(line) == 1:
-        return np.linalg.norm(points - line[0], axis=1)
-    a, b = line[:-1], line[1:]
-    ab = b - a
-    length2 = np.maximum(np.sum(ab * ab, axis=1), 1e-300)
-    best = np.full(len(points), np.inf)
-    for k in range(len(a)):
-        t = np.clip((points - a[k]) @ ab[k] / length2[k], 0.0, 1.0)
-        best = np.minimum(best, np.linalg.norm(points - (a[k] + t[:, None] * ab[k]), axis=1))
-    return best
-
-
-def path_distance(paths, ref_paths):
-    """Largest distance from a variant's tip positions to the reference tip path (the polyline
-    of its tip positions), over the tips both runs measure."""
-    worst = None
-    for name, points in paths.items():
-        ref = ref_paths.get(name)
-        if ref is None or len(points) == 0 or len(ref) == 0:
-            continue
-        worst = max(worst or 0.0, float(distance_to_polyline(points, ref).max()))
-    return worst
-
-
-def field_errors(frame, ref):
-    """Damage-field difference and L2 displacement error against the reference's nearest
-    particle (the reference is the finest run, so each particle finds a close partner)."""
-    if frame is None or ref is None or frame["volume"] is None:
-        return None, None
-    _, nearest = cKDTree(ref["x"]).query(frame["x"])
-    v = frame["volume"]
-    damage = None
-    if frame["damage"] is not None and ref["damage"] is not None:
-        ref_total = float(np.sum(ref["damage"] * ref["volume"])) if ref["volume"] is not None else 0
-        if ref_total > 0:
-            damage = float(np.sum(np.abs(frame["damage"] - ref["damage"][nearest]) * v)) / ref_total
-    du = frame["u"] - ref["u"][nearest]
-    norm_ref = math.sqrt(float(np.sum(np.sum(ref["u"][nearest] ** 2, axis=1) * v)))
-    l2 = math.sqrt(float(np.sum(np.sum(du**2, axis=1) * v))) / norm_ref if norm_ref > 0 else None
-    return damage, l2
 
 
 def pareto_front(rows, metric):
@@ -311,17 +227,27 @@ def measure_run(dhpd, label, case, overrides, out_dir, threads=None):
     return row, summary
 
 
-def is_3d(frame):
-    return frame is not None and float(np.ptp(frame["x"][:, 2])) > 0.0
+def criteria_failures(study, rows):
+    """(variant, metric, value, limit) for every criterion a variant misses (an unmeasured
+    metric misses too)."""
+    out = []
+    for r in rows:
+        for metric, limit in study.get("criteria", {}).items():
+            value = r[metric]
+            if value is None or not value <= limit:
+                out.append((r["label"], metric, value, limit))
+    return out
 
 
-def compare(row, summary, ref_row, ref_summary, ref_frame, ref_paths):
-    row["angle_deg"], row["initiation"] = crack_errors(summary, ref_summary)
-    frame = last_frame(row["out"])
-    if is_3d(frame) != is_3d(ref_frame):
-        return  # positions of another dimension: only the angle and initiation compare
-    row["tip_path"] = path_distance(tip_paths(row["out"]), ref_paths)
-    row["damage"], row["l2_displacement"] = field_errors(frame, ref_frame)
+def criteria_lines(study, rows, failures):
+    if "criteria" not in study:
+        return []
+    limits = ", ".join(f"{k} ≤ {v}" for k, v in study["criteria"].items())
+    lines = ["", f"Criteria ({limits}): "
+             + ("**all variants pass**." if not failures else "**failed**:"), ""]
+    lines += [f"- {label}: {metric} = {fmt(value)} (limit {limit})"
+              for label, metric, value, limit in failures]
+    return lines
 
 
 def fmt(value, digits=4):
@@ -368,6 +294,7 @@ def write_outputs(study, rows, ref_row, out):
                         if best else "none of the variants."))
     if "angles" in study:
         lines += study_angles.report(study["angles"]["early_distance"], [ref_row] + rows, out)
+    lines += criteria_lines(study, rows, criteria_failures(study, rows))
     lines += ["", "![error against time](pareto.png)", ""]
     with open(os.path.join(out, "study.md"), "w") as f:
         f.write("\n".join(lines))
@@ -416,7 +343,11 @@ def main():
     best = write_outputs(study, rows, ref_row, out)
     print(f"dhpd study: wrote {out}/study.csv, study.md, pareto.png"
           + (f"; cheapest within budget: {best['label']} ({best['wall_s']:.2f} s)" if best else ""))
+    failures = criteria_failures(study, rows)
+    for label, metric, value, limit in failures:
+        print(f"dhpd study: {label}: {metric} = {fmt(value)} is not within {limit}", flush=True)
+    return 1 if failures else 0
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())
