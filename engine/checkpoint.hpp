@@ -17,7 +17,8 @@
 
 namespace dhpd {
 
-constexpr std::uint32_t kCheckpointVersion = 2;  // 2: bonds carry their stiffness factor
+constexpr std::uint32_t kCheckpointVersion =
+    2;  // 2: bond stiffness factors, crack tracks' initial angles and branch speeds
 
 /// The in-memory snapshot of a simulation (every array as it is, row arenas included).
 std::vector<std::byte> save_simulation(const Simulation& sim);

@@ -11,12 +11,13 @@
 namespace dhpd::refine {
 
 /// The triggers of a scene that names none (cases/README.md, `effects.refinement`): cracks
-/// (φ ≥ 0.05) and, within three horizons of a crack front, bonds at half their critical stretch.
+/// (φ ≥ 0.05) and bonds at half their critical stretch anywhere, so a notch tip, a hole's rim or a
+/// spall plane is refined while its bonds are still intact (issue 12: measured on the edge-crack,
+/// hole and branching plates against their uniform fine runs).
 inline Triggers default_triggers() {
   Triggers t;
   t.damage = 0.05;
   t.stretch = 0.5;
-  t.near_crack = 3.0;
   return t;
 }
 

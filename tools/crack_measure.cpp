@@ -265,10 +265,12 @@ TipRow CrackTracker::measure_tip(const DamageGraph& g, const ParticleStore& p, s
   if (t.running && l - back >= *t.running && back > 0)
     t.max_speed = std::max(t.max_speed.value_or(0.0), r.speed);
   t.angle_deg = std::isnan(r.angle_deg) ? std::nullopt : std::optional<double>(r.angle_deg);
+  if (!t.initial_angle && r.distance >= kInitialHorizons * horizon) t.initial_angle = t.angle_deg;
   const Branches branches = count_branches(g, crack, p, s_.branch_separation, tip.front);
   r.branches = branches.count;
   if (branches.count > std::max(t.most_branches, 1)) {  // 0 -> 1 is the crack, not a branch
     t.branch_times.push_back(time);
+    t.branch_speeds.push_back(r.speed);
     t.branch_positions.insert(t.branch_positions.end(), branches.centroids.begin(),
                               branches.centroids.end());
   }
@@ -285,6 +287,8 @@ std::vector<CrackSummary> CrackTracker::summary() const {
     c.angle_deg = t.angle_deg;
     c.max_speed = t.max_speed;
     c.branch_times = t.branch_times;
+    c.branch_speeds = t.branch_speeds;
+    c.initial_angle_deg = t.initial_angle;
     c.branch_positions = t.branch_positions;
     c.most_branches = t.most_branches;
     c.tip = t.x.empty() ? s_.tips[k].at : t.x.back();

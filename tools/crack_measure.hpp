@@ -28,6 +28,9 @@ struct Tip {
   std::optional<geometry::Shape> region;
 };
 
+/// How far (in horizons of the crack tip) a crack has run when its initial angle is taken.
+inline constexpr double kInitialHorizons = 3.0;
+
 /// The `measure` block of a scene (cases/README.md, `measure`).
 struct Settings {
   double damage_threshold = 0.35;  ///< φ ≥ this counts as cracked
@@ -70,8 +73,12 @@ struct CrackSummary {
   std::optional<double> max_speed;        ///< largest speed over intervals once the crack runs
   std::optional<double> mean_speed;       ///< path advanced since it runs / time since then
   std::vector<double> branch_times;
+  std::vector<double> branch_speeds;   ///< the tip's speed (eq. 59, smoothed) at each branching
   std::vector<Vec3> branch_positions;  ///< the centroids of the clusters at each new branching
-  int most_branches = 0;               ///< the largest branch count of any measurement
+  /// The crack's angle once its tip is kInitialHorizons horizons from the notch tip (the angle the
+  /// papers quote for where a crack leaves the notch); `angle_deg` is the chord to the last tip.
+  std::optional<double> initial_angle_deg;
+  int most_branches = 0;  ///< the largest branch count of any measurement
   Vec3 tip{0, 0, 0};
 };
 
@@ -134,6 +141,7 @@ class CrackTracker {
     for (auto& t : self.tracks_) {
       ar(t.time), ar(t.x), ar(t.path), ar(t.initiated), ar(t.running), ar(t.max_speed);
       ar(t.angle_deg), ar(t.most_branches), ar(t.branch_times), ar(t.branch_positions);
+      ar(t.branch_speeds), ar(t.initial_angle);
       const auto n = t.time.size();
       if (t.x.size() != n || t.path.size() != n || (t.initiated && *t.initiated >= n) ||
           (t.running && *t.running >= n))
@@ -154,6 +162,8 @@ class CrackTracker {
     int most_branches = 0;
     std::vector<double> branch_times;
     std::vector<Vec3> branch_positions;
+    std::vector<double> branch_speeds;    ///< the tip's speed where each branching was found
+    std::optional<double> initial_angle;  ///< chord angle once the tip is kInitialHorizons out
   };
   TipRow measure_tip(const DamageGraph& g, const ParticleStore& p, std::size_t k, std::int64_t step,
                      double time);

@@ -98,9 +98,11 @@ nlohmann::ordered_json crack_json(const measure::CrackSummary& c) {
   j["name"] = c.name;
   j["initiation_time"] = optional_number(c.initiation_time);
   j["angle_deg"] = optional_number(c.angle_deg);
+  j["initial_angle_deg"] = optional_number(c.initial_angle_deg);
   j["max_speed"] = optional_number(c.max_speed);
   j["mean_speed"] = optional_number(c.mean_speed);
   j["branch_times"] = c.branch_times;
+  j["branch_speeds"] = c.branch_speeds;
   j["branch_positions"] = c.branch_positions;
   j["most_branches"] = c.most_branches;
   j["tip"] = c.tip;

@@ -84,13 +84,17 @@ void log_cracks(const io::CrackReport& report) {
       return v ? fmt::format(fmt::runtime(format), *v) : std::string("none");
     };
     fmt::print(
-        "dhpd: crack {}: initiation {} s, angle {} deg, max speed {} m/s ({} c_R), mean {} m/s, "
-        "{} branching(s){}\n",
-        c.name, text(c.initiation_time, "{:.4g}"), text(c.angle_deg, "{:.1f}"),
-        text(c.max_speed, "{:.4g}"),
+        "dhpd: crack {}: initiation {} s, angle {} deg at {} horizons, {} deg at the end, max "
+        "speed "
+        "{} m/s ({} c_R), mean {} m/s, {} branching(s){}\n",
+        c.name, text(c.initiation_time, "{:.4g}"), text(c.initial_angle_deg, "{:.1f}"),
+        measure::kInitialHorizons, text(c.angle_deg, "{:.1f}"), text(c.max_speed, "{:.4g}"),
         text(c.max_speed ? std::optional<double>(*c.max_speed / c_r) : std::nullopt, "{:.2f}"),
         text(c.mean_speed, "{:.4g}"), c.branch_times.size(),
-        c.branch_times.empty() ? "" : fmt::format(" at {:.4g} s", fmt::join(c.branch_times, ", ")));
+        c.branch_times.empty()
+            ? ""
+            : fmt::format(" at {:.4g} s (tip speed {:.4g} m/s)", fmt::join(c.branch_times, ", "),
+                          fmt::join(c.branch_speeds, ", ")));
   }
 }
 

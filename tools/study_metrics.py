@@ -63,7 +63,7 @@ def crack_errors(summary, ref_summary):
 
 def branching_error(summary, ref_summary):
     """Largest |t_B1 − t_B1,ref| / t_B1,ref over the tips (first branching); infinite when one run
-    branches and the other does not; None when neither branches."""
+    branches and the other does not; 0 when neither branches (they agree); None without tips."""
     ref = {c["name"]: c for c in ref_summary.get("cracks", [])}
     worst = None
     for crack in summary.get("cracks", []):
@@ -71,9 +71,8 @@ def branching_error(summary, ref_summary):
         if r is None:
             continue
         mine, theirs = crack.get("branch_times") or [], r.get("branch_times") or []
-        if not mine and not theirs:
-            continue
-        error = abs(mine[0] - theirs[0]) / theirs[0] if mine and theirs else math.inf
+        error = (0.0 if not mine and not theirs else
+                 abs(mine[0] - theirs[0]) / theirs[0] if mine and theirs else math.inf)
         worst = max(worst or 0.0, error)
     return worst
 
