@@ -181,7 +181,7 @@ struct BlockSolver {
     precondition(r, z);
     Eigen::VectorXd dir = z;
     double rz = r.dot(z);
-    const double stop = 1e-4 * rhs.norm();  // the moments to 1e-4 of what they were
+    const double stop = 1e-3 * rhs.norm();  // the moments to 1e-3 of what they were
     int it = 0;
     for (; it < 2000 && r.norm() > stop; ++it) {
       apply(dir, q);

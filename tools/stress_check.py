@@ -8,9 +8,11 @@ optionally, with 2 threads (dir_b) and returns one measured value and a verdict 
 - finite:    every number of history.csv (and of cracks.csv / refinement.csv when present) and
              every component of every point array of every written frame is finite (cracks.csv
              angle_deg is nan by design while a crack has not left its notch: skipped there).
-- energy:    max over history rows of (K + S - (E0 + W)) / scale, with K, S the kinetic and strain
-             energy, W the external work of that row, E0 = K + S of the first row, and
-             scale = max over rows of (E0 + |W|). Passes when <= energy_tolerance (0.01).
+- energy:    max over history rows of (K + S - (E0 + W + W_map)) / scale, with K, S the kinetic and
+             strain energy, W the external work of that row, W_map what refinement events added
+             since the first row (refinement.csv's mapping_energy), E0 = K + S of the first row,
+             and scale = max over rows of (E0 + |W| + |W_map|). Passes when <= energy_tolerance
+             (0.01).
 - momentum:  max over history rows and checked axes of |P_a - P_a(0)| / scale, with
              scale = max over the written frames of sum_i m_i |v_i| (m_i = rho of the particle's
              material x its volume). Passes when <= momentum_tolerance (1e-9).
@@ -80,9 +82,23 @@ def material_densities(out_dir):
 
 
 def history_columns(out_dir):
+    """history.csv by column, plus `mapping_energy`: what refinement events added (refinement.csv)
+    up to each row, counting the events after the first row (zones refined at step 0 come before
+    it and are part of its energy)."""
     header, rows = read_csv(os.path.join(out_dir, "history.csv"))
     values = np.array([[float(c) for c in row] for row in rows]) if rows else np.zeros((0, 0))
-    return {name: values[:, k] for k, name in enumerate(header)} if rows else {}
+    h = {name: values[:, k] for k, name in enumerate(header)} if rows else {}
+    if h:
+        h["mapping_energy"] = np.zeros(len(h["step"]))
+        events = read_csv(os.path.join(out_dir, "refinement.csv"))
+        header, rows = events if events is not None else ([], [])
+        if "mapping_energy" in header:
+            at = {name: k for k, name in enumerate(header)}
+            for row in rows:
+                step, energy = float(row[at["step"]]), float(row[at["mapping_energy"]])
+                if step > 0:
+                    h["mapping_energy"] += np.where(h["step"] >= step, energy, 0.0)
+    return h
 
 
 def all_finite_csv(out_dir):
@@ -104,14 +120,15 @@ def all_finite_csv(out_dir):
 
 
 def energy_balance(h):
-    """(K + S - E0 - W) / max(E0 + |W|) at every history row (inf when the scale is 0 and the
-    energy is not)."""
+    """(K + S - E0 - W - W_map) / max(E0 + |W| + |W_map|) at every history row (inf when the scale
+    is 0 and the energy is not); W_map is what refinement events added (history_columns)."""
     total = h["kinetic_energy"] + h["strain_energy"]
     initial = total[0]
-    scale = np.max(initial + np.abs(h["external_work"]))
+    mapping = h.get("mapping_energy", np.zeros(len(total)))
+    scale = np.max(initial + np.abs(h["external_work"]) + np.abs(mapping))
     if scale <= 0:
         return np.where(total <= 0, 0.0, math.inf)
-    return (total - initial - h["external_work"]) / scale
+    return (total - initial - h["external_work"] - mapping) / scale
 
 
 def energy_excess(h):
