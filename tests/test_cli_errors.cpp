@@ -71,6 +71,15 @@ std::vector<BadScene> bad_scenes() {
       set("SetThroughPlainValue", "name.x=1", "--set name.x: cannot set 'x' inside 'name'"),
       set("SetBadValue", "time.steps=-1", "--set time.steps: steps must be an integer > 0"),
       set("SetWithoutValue", "time.steps", "--set time.steps: expected key.path=value"),
+      set("SetInitialVelocityOutsideBody",
+          "initial_conditions=[{region: {shape: box, min: [0.02, 0.02], max: [0.03, 0.03]}, "
+          "velocity: [22.0, 0.0]}]",
+          "--set initial_conditions.0.region: selects no particle"),
+      set("SetUnknownMapping", "effects.refinement={mapping: cubic}",
+          "--set effects.refinement.mapping: unknown mapping 'cubic' (allowed: copy, linear, "
+          "quadratic)"),
+      set("SetStretchTriggerAboveOne", "effects.refinement={trigger: {stretch: 1.5}}",
+          "--set effects.refinement.trigger.stretch: stretch (of s0) is a fraction, got 1.5"),
   };
 }
 
