@@ -234,10 +234,6 @@ void remove_net_moment(Eigen::VectorXd& rhs, const std::vector<std::int32_t>& co
   }
 }
 
-}  // namespace
-
-namespace {
-
 /// The system of one correction: unknown bonds, constrained particles and their moments.
 struct System {
   int c = 0;

@@ -71,7 +71,6 @@ struct RefinementEvent {
   std::int64_t started_overstretched = 0;
   InterfaceCorrection interfaces;  ///< the stiffness factors the event solved for
   std::size_t reduced_fits = 0;    ///< parents whose mapping gradient had a reduced rank
-  std::size_t copied_fits = 0;     ///< parents with no intact bond (children copy u and v)
   double seconds = 0.0;            ///< the event itself (split and incremental rebuild)
   bool resorted = false;           ///< the store was re-sorted and compacted after the event
   double resort_seconds = 0.0;     ///< cost of that re-sort (not in `seconds`)

@@ -46,7 +46,6 @@ RefinementEvent Simulation::apply_refinement(const std::vector<std::int32_t>& pa
   std::sort(held.begin(), held.end());
   const auto state = map_state(plan, mapping, p_, bonds_, held);
   out.reduced_fits = state.reduced_fits;
-  out.copied_fits = state.copied;
   ev.near = old_neighbourhood(plan);
   parent_slot_.resize(plan.new_size, -1);
   child_of_slot_.resize(plan.new_size, -1);
