@@ -53,7 +53,7 @@ struct SimulationSetup {
   double energy_tolerance = 0.01;
   /// Stiffness factors on the bonds near horizon jumps so that a homogeneous deformation puts no
   /// force there (interface_consistency.hpp; dual-horizon only). Off: the papers' DH-PD, whose
-  /// level interfaces carry a force layer about 0.4 times a free surface's.
+  /// level interfaces carry a force layer 0.5–0.8 times a free surface's (docs/theory.md §4).
   bool interface_correction = true;
 };
 

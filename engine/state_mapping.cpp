@@ -148,7 +148,6 @@ ChildState map_state(const SplitPlan& plan, StateMapping mapping, const Particle
     if (mapping != StateMapping::Copy) {
       fit = fit_parent(p, bonds, q, mapping == StateMapping::Quadratic, held);
       s.reduced_fits += fit.displacement.rank == FitRank::Reduced ? 1 : 0;
-      s.copied += fit.displacement.rank == FitRank::None ? 1 : 0;
     }
     const Vec3 xq = point_of(p.reference_position, q);
     // u is the field at the child; v less the siblings' mean change, so Σ m_c v_c = m_q v_q.

@@ -42,7 +42,6 @@ enum class FitRank { Full, Reduced, None };
 struct ChildState {
   std::vector<geometry::Vec3> displacement, velocity;
   std::size_t reduced_fits = 0;  ///< parents whose fit had a reduced rank
-  std::size_t copied = 0;        ///< parents with no intact bond (their children copy u and v)
 };
 
 /// The children's u and v, from the store and bonds before the event. `held` (sorted) lists the
