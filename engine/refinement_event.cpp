@@ -27,11 +27,43 @@ std::vector<Vec3> child_offsets(int dim, double dx) {
   return out;
 }
 
-bool ChildFilter::allows(const Vec3& parent, const Vec3& child) const {
-  if (body && !body->contains(child, dim)) return false;
+bool ChildFilter::allows(const Vec3& child) const {
+  return !body || body->contains(child, dim);
+}
+
+namespace {
+bool crosses_a_crack(const std::vector<geometry::Crack>& cracks, const Vec3& a, const Vec3& b,
+                     int dim) {
   for (const auto& c : cracks)
-    if (geometry::crosses(c, parent, child, dim)) return false;
-  return true;
+    if (geometry::crosses(c, a, b, dim)) return true;
+  return false;
+}
+}  // namespace
+
+std::vector<std::int32_t> donors_across_cracks(const SplitPlan& plan, const ParticleStore& p,
+                                               const std::vector<geometry::Crack>& cracks,
+                                               const SpatialGrid& grid) {
+  std::vector<std::int32_t> donor(plan.child_position.size(), -1);
+  if (cracks.empty()) return donor;
+  const int dim = p.dim();
+  std::vector<std::int32_t> near;
+  for (std::size_t c = 0; c < donor.size(); ++c) {
+    const auto q = static_cast<std::size_t>(plan.parents[plan.child_parent[c]]);
+    const Vec3& xc = plan.child_position[c];
+    if (!crosses_a_crack(cracks, point_of(p.reference_position, q), xc, dim)) continue;
+    grid.within(xc, p.horizon[q], near, static_cast<std::int32_t>(q));
+    double best = HUGE_VAL;
+    for (const auto j : near) {  // ascending: the first of equally near ones wins
+      const Vec3 xj = point_of(p.reference_position, static_cast<std::size_t>(j));
+      double d2 = 0.0;
+      for (int a = 0; a < dim; ++a) d2 += (xj[a] - xc[a]) * (xj[a] - xc[a]);
+      if (d2 < best && !crosses_a_crack(cracks, xc, xj, dim)) {
+        best = d2;
+        donor[c] = j;
+      }
+    }
+  }
+  return donor;
 }
 
 SplitPlan plan_split(const ParticleStore& p, const std::vector<std::int32_t>& parents,
@@ -50,7 +82,7 @@ SplitPlan plan_split(const ParticleStore& p, const std::vector<std::int32_t>& pa
     const auto xq = point_of(p.reference_position, static_cast<std::size_t>(q));
     const std::size_t first = plan.child_position.size();
     for (const auto& off : child_offsets(p.dim(), p.spacing[static_cast<std::size_t>(q)]))
-      if (filter.allows(xq, xq + off)) plan.child_position.push_back(xq + off);
+      if (filter.allows(xq + off)) plan.child_position.push_back(xq + off);
     const std::size_t made = plan.child_position.size() - first;
     if (made == 0) continue;
     plan.dropped += (std::size_t{1} << p.dim()) - made;

@@ -10,6 +10,7 @@
 #include "engine/bonds.hpp"
 #include "engine/particles.hpp"
 #include "engine/settings.hpp"
+#include "engine/spatial_grid.hpp"
 #include "engine/state_mapping.hpp"
 #include "geometry/crack.hpp"
 #include "geometry/shapes.hpp"
@@ -19,13 +20,13 @@ namespace dhpd {
 /// Offsets of the 2^dim children of a cell of spacing `dx`: ±dx/4 on each axis (dhpd.md §8).
 std::vector<geometry::Vec3> child_offsets(int dim, double dx);
 
-/// Where children may go: inside the body (when its shape is known) and not across a pre-crack
-/// from their parent.
+/// Where children may go: inside the body (when its shape is known). A child across a pre-crack
+/// from its parent is created like any other (the uniform fine lattice has a particle there); its
+/// state comes from its own side of the crack (`donors_across_cracks`).
 struct ChildFilter {
   const std::optional<geometry::Shape>& body;
-  const std::vector<geometry::Crack>& cracks;
   int dim;
-  bool allows(const geometry::Vec3& parent, const geometry::Vec3& child) const;
+  bool allows(const geometry::Vec3& child) const;
 };
 
 /// The children of one event. Slots: a parent's first child takes the parent's slot (so particle
@@ -38,7 +39,7 @@ struct SplitPlan {
   std::vector<std::int32_t> child_slot;        ///< per child: its slot in the store
   std::vector<geometry::Vec3> child_position;  ///< per child: reference position
   std::size_t old_size = 0, new_size = 0;
-  std::size_t dropped = 0;  ///< children not created (outside the body or across a crack)
+  std::size_t dropped = 0;  ///< children not created (outside the body)
 };
 
 /// Validates `parents` (in range, no duplicates) and lays out their children. A child the filter
@@ -46,6 +47,13 @@ struct SplitPlan {
 /// is left unsplit.
 SplitPlan plan_split(const ParticleStore& p, const std::vector<std::int32_t>& parents,
                      const ChildFilter& filter);
+
+/// Per child of `plan`: −1 when no pre-crack separates it from its parent; otherwise the particle
+/// that gives it its state, the nearest (lowest index among the nearest) within the parent's
+/// horizon that it sees without crossing a crack, or −1 when there is none.
+std::vector<std::int32_t> donors_across_cracks(const SplitPlan& plan, const ParticleStore& p,
+                                               const std::vector<geometry::Crack>& cracks,
+                                               const SpatialGrid& grid);
 
 /// The parents' fields, copied out before their slots are overwritten.
 ParticleStore snapshot(ParticleStore& p, const std::vector<std::int32_t>& indices);

@@ -61,7 +61,7 @@ struct SimulationSetup {
 struct RefinementEvent {
   std::int64_t generation = 0;  ///< the generation the event created
   std::size_t parents = 0, children = 0;
-  std::size_t dropped = 0;          ///< children not created (outside the body, across a crack)
+  std::size_t dropped = 0;          ///< children not created (outside the body)
   std::size_t rows_rebuilt = 0;     ///< owners whose bond rows were rebuilt
   std::size_t bonds_rebuilt = 0;    ///< bonds written by the event
   std::size_t rows_touched = 0;     ///< interaction rows rewritten (owners and their neighbours)

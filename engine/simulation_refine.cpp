@@ -32,7 +32,7 @@ RefinementEvent Simulation::apply_refinement(const std::vector<std::int32_t>& pa
   auto t = timers_.scope(Phase::Refine);
   ensure_grid();
   EventScratch ev;
-  ev.plan = plan_split(p_, parents, ChildFilter{setup_.body, setup_.cracks, p_.dim()});
+  ev.plan = plan_split(p_, parents, ChildFilter{setup_.body, p_.dim()});
   const auto& plan = ev.plan;
   if (plan.parents.empty()) return out;
   // The mapping's energy change, for the instability guard's balance: only rows near the parents
@@ -44,7 +44,8 @@ RefinementEvent Simulation::apply_refinement(const std::vector<std::int32_t>& pa
   ev.parents = snapshot(p_, plan.parents);
   std::vector<std::int32_t> held(loads_.prescribed);
   std::sort(held.begin(), held.end());
-  const auto state = map_state(plan, mapping, p_, bonds_, held);
+  const auto state = map_state(plan, mapping, p_, bonds_, held,
+                               donors_across_cracks(plan, p_, setup_.cracks, *grid_));
   out.reduced_fits = state.reduced_fits;
   ev.near = old_neighbourhood(plan);
   parent_slot_.resize(plan.new_size, -1);

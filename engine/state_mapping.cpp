@@ -134,37 +134,49 @@ ParentFit fit_parent(const ParticleStore& p, const BondList& bonds, std::size_t 
 }
 
 ChildState map_state(const SplitPlan& plan, StateMapping mapping, const ParticleStore& p,
-                     const BondList& bonds, const std::vector<std::int32_t>& held) {
+                     const BondList& bonds, const std::vector<std::int32_t>& held,
+                     const std::vector<std::int32_t>& donor) {
   ChildState s;
   const int d = p.dim();
   const std::size_t n = plan.child_slot.size();
   s.displacement.resize(n);
   s.velocity.resize(n);
+  const bool quadratic = mapping == StateMapping::Quadratic;
+  auto fit_of = [&](std::size_t i) {
+    return mapping == StateMapping::Copy ? ParentFit{} : fit_parent(p, bonds, i, quadratic, held);
+  };
+  std::vector<Vec3> du, dv;  // per child of one parent: the change from the parent's u and v
   for (std::size_t c = 0; c < n;) {  // the children of one parent are consecutive
     const auto k = plan.child_parent[c];
     const auto q = static_cast<std::size_t>(plan.parents[static_cast<std::size_t>(k)]);
     const std::size_t end = c + static_cast<std::size_t>(plan.child_count[k]);
-    ParentFit fit;
-    if (mapping != StateMapping::Copy) {
-      fit = fit_parent(p, bonds, q, mapping == StateMapping::Quadratic, held);
-      s.reduced_fits += fit.displacement.rank == FitRank::Reduced ? 1 : 0;
-    }
-    const Vec3 xq = point_of(p.reference_position, q);
-    // u is the field at the child; v less the siblings' mean change, so Σ m_c v_c = m_q v_q.
-    double mean_dv[3] = {0, 0, 0};
-    for (std::size_t m = c; m < end; ++m)
-      for (int r = 0; r < d; ++r)
-        mean_dv[r] +=
-            fit.velocity.change(r, plan.child_position[m] - xq, d) / static_cast<double>(end - c);
+    const ParentFit fit = fit_of(q);
+    s.reduced_fits += fit.displacement.rank == FitRank::Reduced ? 1 : 0;
+    du.assign(end - c, Vec3{0, 0, 0});
+    dv.assign(end - c, Vec3{0, 0, 0});
     for (std::size_t m = c; m < end; ++m) {
-      const Vec3 o = plan.child_position[m] - xq;
-      for (int r = 0; r < 3; ++r) {
-        s.displacement[m][r] =
-            p.displacement[r][q] + (r < d ? fit.displacement.change(r, o, d) : 0);
-        s.velocity[m][r] =
-            p.velocity[r][q] + (r < d ? fit.velocity.change(r, o, d) - mean_dv[r] : 0.0);
+      // A child across a pre-crack from its parent takes the field of its own side: the donor's
+      // fit evaluated at the child.
+      const bool across = !donor.empty() && donor[m] >= 0;
+      const auto from = across ? static_cast<std::size_t>(donor[m]) : q;
+      const ParentFit own = across ? fit_of(from) : ParentFit{};
+      const ParentFit& f = across ? own : fit;
+      const Vec3 o = plan.child_position[m] - point_of(p.reference_position, from);
+      for (int r = 0; r < d; ++r) {
+        du[m - c][r] =
+            p.displacement[r][from] - p.displacement[r][q] + f.displacement.change(r, o, d);
+        dv[m - c][r] = p.velocity[r][from] - p.velocity[r][q] + f.velocity.change(r, o, d);
       }
     }
+    // u is the field at the child; v less the siblings' mean change, so Σ m_c v_c = m_q v_q.
+    double mean_dv[3] = {0, 0, 0};
+    for (const auto& x : dv)
+      for (int r = 0; r < d; ++r) mean_dv[r] += x[r] / static_cast<double>(end - c);
+    for (std::size_t m = c; m < end; ++m)
+      for (int r = 0; r < 3; ++r) {
+        s.displacement[m][r] = p.displacement[r][q] + (r < d ? du[m - c][r] : 0.0);
+        s.velocity[m][r] = p.velocity[r][q] + (r < d ? dv[m - c][r] - mean_dv[r] : 0.0);
+      }
     c = end;
   }
   return s;

@@ -46,9 +46,12 @@ struct ChildState {
 
 /// The children's u and v, from the store and bonds before the event. `held` (sorted) lists the
 /// particles with a prescribed velocity: a held region moves apart from the free material next
-/// to it, so a fit never mixes held and free particles.
+/// to it, so a fit never mixes held and free particles. `donor` (per child, or empty) names the
+/// particle whose fit gives a child across a pre-crack from its parent its u and v
+/// (`donors_across_cracks`); momentum stays exact (the siblings' mean change of v is removed).
 ChildState map_state(const SplitPlan& plan, StateMapping mapping, const ParticleStore& p,
-                     const BondList& bonds, const std::vector<std::int32_t>& held);
+                     const BondList& bonds, const std::vector<std::int32_t>& held,
+                     const std::vector<std::int32_t>& donor = {});
 
 /// A least-squares fit of a vector field w around particle i over its intact own bonds, weighted
 /// by β V_j: w(X_i + ξ) ≈ w_i + G ξ (+ ½ ξᵀ H_r ξ per component r when quadratic).

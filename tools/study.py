@@ -33,6 +33,13 @@ Study file (YAML):
                                      # the scene's published angle
     criteria: {broken_bonds: 0.25, branching: 0.1}   # optional: limits every variant must meet;
                                      # study.md lists the misses and `dhpd study` exits 1
+    perturbed_reference: {label: safety 0.6, set: {time.safety: 0.6}}   # optional: the reference
+                                     # again with these overrides on top (a change that should
+                                     # not matter, such as the time step), measured against the
+                                     # reference like a variant and held to the same criteria:
+                                     # a criterion tighter than the reference's own spread under
+                                     # it could not tell a good variant from a bad one, so the
+                                     # study then fails as ill-posed
 A variant may name its own `case`, fixed `set` overrides and a `grid` of overrides whose
 cartesian product gives one run each. Metrics: angle_deg (largest |Δ angle| over the tips),
 initiation (largest |Δ t_init| / t_init,ref), tip_path (largest distance, m, from a variant's
@@ -99,7 +106,7 @@ def load_study(path):
         if key not in study:
             fail(f"{path}: missing key '{key}'")
     unknown = set(study) - {"name", "case", "reference", "variants", "error", "budget", "threads",
-                            "frames", "mirror", "angles", "criteria"}
+                            "frames", "mirror", "angles", "criteria", "perturbed_reference"}
     if unknown:
         fail(f"{path}: unknown key(s) {sorted(unknown)}")
     if study.get("error", "angle_deg") not in METRICS:
@@ -112,6 +119,12 @@ def load_study(path):
                 fail(f"{path}: {section}.{key} must be a number >= 0, not {limit!r}")
     if "mirror" in study:
         check_mirror(path, study["mirror"])
+    perturbed = study.get("perturbed_reference")
+    if perturbed is not None and not (
+            isinstance(perturbed, dict) and set(perturbed) <= {"label", "set"}
+            and isinstance(perturbed.get("set"), dict) and perturbed["set"]):
+        fail(f"{path}: perturbed_reference must be {{label: TEXT, set: {{KEY: VALUE, ...}}}}, "
+             f"not {perturbed!r}")
     if "angles" in study and not study_angles.valid(study["angles"]):
         fail(f"{path}: angles must be {{early_distance: NUMBER > 0}} (m), "
              f"not {study['angles']!r}")
@@ -239,6 +252,19 @@ def criteria_failures(study, rows):
     return out
 
 
+def perturbed_lines(study, perturbed, failures):
+    """study.md's paragraph on the reference's own spread under `perturbed_reference`."""
+    if perturbed is None:
+        return []
+    mine = [f for f in failures if f[0] == perturbed["label"]]
+    measured = ", ".join(f"{m} = {fmt(perturbed[m])}" for m in study.get("criteria", {}))
+    return ["", f"Reference's own spread ({perturbed['label']}, against the reference): {measured}: "
+            + ("within every criterion, so the criteria can tell variants apart."
+               if not mine else "**a criterion is tighter than the reference's own spread: the "
+               "comparison is ill-posed** (choose a scene or an end time whose reference does "
+               "not depend on this change).")]
+
+
 def criteria_lines(study, rows, failures):
     if "criteria" not in study:
         return []
@@ -254,13 +280,13 @@ def fmt(value, digits=4):
     return "–" if value is None else (f"{value:.{digits}g}" if isinstance(value, float) else str(value))
 
 
-def write_outputs(study, rows, ref_row, out):
+def write_outputs(study, rows, ref_row, out, perturbed=None):
     metric = study.get("error", "angle_deg")
     columns = ["label", "case", "wall_s", "particle_steps", "peak_mib", "particles_end"] + METRICS
     with open(os.path.join(out, "study.csv"), "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(columns + ["overrides"])
-        for r in [ref_row] + rows:
+        for r in [ref_row] + rows + ([perturbed] if perturbed else []):
             w.writerow([r[c] if r[c] is not None else "" for c in columns] + [json.dumps(r["overrides"])])
     front = pareto_front(rows, metric)
     plot_pareto(rows, metric, front, ref_row, os.path.join(out, "pareto.png"))
@@ -294,6 +320,8 @@ def write_outputs(study, rows, ref_row, out):
                         if best else "none of the variants."))
     if "angles" in study:
         lines += study_angles.report(study["angles"]["early_distance"], [ref_row] + rows, out)
+    checked = rows + ([perturbed] if perturbed else [])
+    lines += perturbed_lines(study, perturbed, criteria_failures(study, checked))
     lines += criteria_lines(study, rows, criteria_failures(study, rows))
     lines += ["", "![error against time](pareto.png)", ""]
     with open(os.path.join(out, "study.md"), "w") as f:
@@ -340,12 +368,26 @@ def main():
         compare(row, summary, ref_row, ref_summary, ref_frame, ref_paths)
         row["angles"] = study_angles.crack_angles(row["out"], summary, early)
         rows.append(row)
-    best = write_outputs(study, rows, ref_row, out)
+    perturbed = None
+    if "perturbed_reference" in study:
+        entry = study["perturbed_reference"]
+        label = entry.get("label", "perturbed reference")
+        print(f"dhpd study: perturbed reference {label}", flush=True)
+        perturbed, summary = measure_run(args.dhpd, label, ref_case, {**ref_set, **entry["set"]},
+                                         os.path.join(out, "run-perturbed-reference"), threads)
+        # Judged as the variants are: "near the reference's damage" within their reach.
+        reach = max((r.get("spurious_reach") or 0.0 for r in rows), default=0.0) or None
+        compare(perturbed, summary, ref_row, ref_summary, ref_frame, ref_paths, reach)
+        perturbed["angles"] = study_angles.crack_angles(perturbed["out"], summary, early)
+    best = write_outputs(study, rows, ref_row, out, perturbed)
     print(f"dhpd study: wrote {out}/study.csv, study.md, pareto.png"
           + (f"; cheapest within budget: {best['label']} ({best['wall_s']:.2f} s)" if best else ""))
-    failures = criteria_failures(study, rows)
+    failures = criteria_failures(study, rows + ([perturbed] if perturbed else []))
     for label, metric, value, limit in failures:
-        print(f"dhpd study: {label}: {metric} = {fmt(value)} is not within {limit}", flush=True)
+        what = (" (the reference perturbed: the comparison is ill-posed)"
+                if perturbed and label == perturbed["label"] else "")
+        print(f"dhpd study: {label}: {metric} = {fmt(value)} is not within {limit}{what}",
+              flush=True)
     return 1 if failures else 0
 
 

@@ -178,8 +178,10 @@ def is_3d(frame):
     return frame is not None and float(np.ptp(frame["x"][:, 2])) > 0.0
 
 
-def compare(row, summary, ref_row, ref_summary, ref_frame, ref_paths):
-    """Fills the row's error metrics against the reference (tools/study.py METRICS)."""
+def compare(row, summary, ref_row, ref_summary, ref_frame, ref_paths, reach=None):
+    """Fills the row's error metrics against the reference (tools/study.py METRICS). `reach` is
+    spurious_damage's "near the reference's damage" (default: two of the row's coarsest
+    spacings); it is stored in row["spurious_reach"]."""
     row["angle_deg"], row["initiation"] = crack_errors(summary, ref_summary)
     row["branching"] = branching_error(summary, ref_summary)
     row["broken_bonds"] = broken_bonds_error(row["out"], ref_row["out"])
@@ -194,4 +196,5 @@ def compare(row, summary, ref_row, ref_summary, ref_frame, ref_paths):
     row["crack_distance"] = crack_distance(frame, ref_frame)
     if frame is not None and frame["spacing"] is not None:
         # "Where the reference has damage": within two of the variant's coarsest spacings.
-        row["spurious_damage"] = spurious_damage(frame, ref_frame, 2.0 * float(np.max(frame["spacing"])))
+        row["spurious_reach"] = reach or 2.0 * float(np.max(frame["spacing"]))
+        row["spurious_damage"] = spurious_damage(frame, ref_frame, row["spurious_reach"])
