@@ -20,6 +20,17 @@ void add_buffer(const ParticleStore& p, double buffer, std::vector<std::uint8_t>
   }
 }
 
+void keep_within(const ParticleStore& p, const std::vector<geometry::Shape>& within,
+                 std::vector<std::uint8_t>& marked) {
+  if (within.empty()) return;
+  for (std::size_t i = 0; i < marked.size(); ++i) {
+    if (!marked[i]) continue;
+    const auto x = point_of(p.reference_position, i);
+    marked[i] = std::any_of(within.begin(), within.end(),
+                            [&](const geometry::Shape& w) { return w.contains(x, p.dim()); });
+  }
+}
+
 std::vector<std::int32_t> graded_parents(const Simulation& sim, std::vector<std::uint8_t> marked,
                                          int max_level) {
   const auto& p = sim.particles();
@@ -78,6 +89,7 @@ std::vector<RefinementEvent> Refiner::refine_zones(Simulation& sim) const {
 RefinementEvent Refiner::check(Simulation& sim) const {
   auto marked = triggered(sim, s_.trigger);
   add_buffer(sim.particles(), s_.buffer, marked);
+  keep_within(sim.particles(), s_.within, marked);
   const auto parents = graded_parents(sim, std::move(marked), s_.max_level);
   if (parents.empty()) {
     RefinementEvent none;

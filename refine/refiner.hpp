@@ -27,8 +27,15 @@ struct Settings {
   int max_level = 1;    ///< a particle at this level is never split again
   std::int64_t check_every = 10;
   std::vector<geometry::Shape> zones;  ///< refined at start, up to max_level
+  /// Where triggers may split particles (empty: everywhere). A triggered or buffered particle
+  /// outside every one of them stays; grading still splits what a level jump needs.
+  std::vector<geometry::Shape> within;
   StateMapping mapping = StateMapping::Linear;
 };
+
+/// Clears the marks of particles outside every shape of `within` (none when it is empty).
+void keep_within(const ParticleStore& p, const std::vector<geometry::Shape>& within,
+                 std::vector<std::uint8_t>& marked);
 
 /// Adds to `marked` every particle within buffer × δ_t (reference positions) of a marked t.
 void add_buffer(const ParticleStore& p, double buffer, std::vector<std::uint8_t>& marked);

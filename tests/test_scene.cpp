@@ -248,6 +248,7 @@ void expect_same_scene(const Scene& a, const Scene& b) {
     EXPECT_EQ(ra.max_level, rb.max_level);
     EXPECT_EQ(ra.check_every, rb.check_every);
     EXPECT_EQ(ra.zones.size(), rb.zones.size());
+    EXPECT_EQ(ra.within.size(), rb.within.size());
     EXPECT_EQ(ra.mapping, rb.mapping);
   }
   EXPECT_EQ(a.time.end, b.time.end);
@@ -293,7 +294,8 @@ INSTANTIATE_TEST_SUITE_P(
         std::string(kMinimal) +
             "effects:\n  fracture: true\n  refinement:\n    trigger: {damage: 0.05, stretch: 0.8}\n"
             "    buffer: 1.5\n    max_level: 2\n    check_every: 5\n    mapping: linear\n"
-            "    zones: [{shape: disk, center: [0.5, 0.5], radius: 0.2}]\n",
+            "    zones: [{shape: disk, center: [0.5, 0.5], radius: 0.2}]\n"
+            "    within: [{shape: box, min: [0, 0], max: [0.7, 1]}]\n",
         std::string(kMinimal) + "effects: {refinement: false}\n"));
 
 TEST(SceneResolved, FillsDefaultsAndImpliedPoissonRatio) {

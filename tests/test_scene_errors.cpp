@@ -334,6 +334,8 @@ const std::vector<BadScene> kBadScenes = {
      "bad.yaml:9: effects.refinement.bufer: unknown key 'bufer', did you mean 'buffer'?"},
     {"RefinementUnknownTrigger", plus("effects:\n  refinement:\n    trigger: {damag: 0.1}"),
      "bad.yaml:10: effects.refinement.trigger.damag: unknown key 'damag', did you mean 'damage'?"},
+    {"RefinementWithinNotARegion", plus("effects:\n  refinement: {within: [5]}"),
+     "bad.yaml:9: effects.refinement.within.0: "},
     {"RefinementThresholdZero", plus("effects:\n  refinement: {trigger: {energy: 0}}"),
      "bad.yaml:9: effects.refinement.trigger.energy: energy must be > 0, got 0 (allowed: > 0)"},
     {"RefinementEmptyTrigger", plus("effects:\n  refinement: {trigger: {}}"),

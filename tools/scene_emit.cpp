@@ -254,9 +254,10 @@ void emit_effects(YAML::Emitter& out, const Scene& s) {
   out << YAML::Key << "max_level" << YAML::Value << r.max_level;
   out << YAML::Key << "check_every" << YAML::Value << r.check_every;
   out << YAML::Key << "mapping" << YAML::Value << mapping_name(r.mapping);
-  if (!r.zones.empty()) {
-    out << YAML::Key << "zones" << YAML::Value << YAML::BeginSeq;
-    for (const auto& z : r.zones) emit_region(out, z, s.dimension);
+  for (const auto& [key, shapes] : {std::pair{"zones", &r.zones}, std::pair{"within", &r.within}}) {
+    if (shapes->empty()) continue;
+    out << YAML::Key << key << YAML::Value << YAML::BeginSeq;
+    for (const auto& z : *shapes) emit_region(out, z, s.dimension);
     out << YAML::EndSeq;
   }
   out << YAML::EndMap << YAML::EndMap;

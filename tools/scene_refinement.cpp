@@ -61,7 +61,8 @@ std::optional<RefinementSpec> read_refinement(const Cursor& c, const Scene& s) {
     check_refinable(c, s);
     return r;
   }
-  const MapView m(c, {"trigger", "buffer", "max_level", "check_every", "zones", "mapping"});
+  const MapView m(c,
+                  {"trigger", "buffer", "max_level", "check_every", "zones", "mapping", "within"});
   // Zones alone refine once, at the start; the default triggers come only with no zones.
   if (m.get("zones") && !m.get("trigger")) r.settings.trigger = {};
   if (const auto v = m.get("trigger")) r.settings.trigger = read_triggers(*v);
@@ -75,6 +76,8 @@ std::optional<RefinementSpec> read_refinement(const Cursor& c, const Scene& s) {
         v->choice({std::begin(kStateMappingNames), std::end(kStateMappingNames)}));
   if (const auto v = m.get("zones"))
     for (const auto& z : read_regions(*v, s.dimension)) r.settings.zones.push_back(z.shape);
+  if (const auto v = m.get("within"))
+    for (const auto& z : read_regions(*v, s.dimension)) r.settings.within.push_back(z.shape);
   check_refinable(c, s);
   return r;
 }
