@@ -20,8 +20,8 @@
 #include <utility>
 #include <vector>
 
-#include "tools/scene.hpp"
-#include "tools/vtk_writer.hpp"
+#include "tools/output/vtk_writer.hpp"
+#include "tools/scene/scene.hpp"
 
 namespace dhpd::cli_test {
 

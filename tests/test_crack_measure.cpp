@@ -9,9 +9,9 @@
 #include "engine/errors.hpp"
 #include "tests/scene_samples.hpp"
 #include "tests/support.hpp"
-#include "tools/crack_measure.hpp"
-#include "tools/scene.hpp"
-#include "tools/scene_build.hpp"
+#include "tools/measure/crack_measure.hpp"
+#include "tools/scene/build.hpp"
+#include "tools/scene/scene.hpp"
 
 namespace dhpd::measure {
 namespace {

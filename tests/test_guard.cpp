@@ -13,7 +13,7 @@
 #include "engine/errors.hpp"
 #include "engine/simulation.hpp"
 #include "geometry/lattice.hpp"
-#include "tools/vtk_writer.hpp"
+#include "tools/output/vtk_writer.hpp"
 
 namespace dhpd {
 namespace {

@@ -9,8 +9,8 @@
 
 #include "geometry/mesh_points.hpp"
 #include "tests/support.hpp"
-#include "tools/scene.hpp"
-#include "tools/scene_build.hpp"
+#include "tools/scene/build.hpp"
+#include "tools/scene/scene.hpp"
 
 namespace dhpd {
 namespace {

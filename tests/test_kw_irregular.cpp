@@ -15,7 +15,7 @@ class KwIrregular : public CliTest {
   /// The early crack angle of each tip of cases/kw_irregular/FILE run on a mesh of size `size`
   /// (grading from the middle between the notch tips, size ratio 3.1 to the farthest corner, as
   /// the case): the median chord angle while the tip lay 10 to 20 mm from its notch tip (as
-  /// tools/study_angles.py with early_distance 0.02). Runs to 60 µs, past the 20 mm.
+  /// tools/python/study_angles.py with early_distance 0.02). Runs to 60 µs, past the 20 mm.
   std::vector<double> early_angles(const std::string& file, double size) {
     const std::string out = file.substr(0, file.find('_')) + "_" + std::to_string(size);
     const double rate = 2.1 / std::hypot(0.05, 0.1) * size;  // h = 3.1 size at (0 or 0.1, ±0.1)

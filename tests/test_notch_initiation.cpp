@@ -6,7 +6,7 @@
 #include <cmath>
 
 #include "tests/cli_support.hpp"
-#include "tools/lefm.hpp"
+#include "tests/support/lefm.hpp"
 
 namespace {
 

@@ -11,15 +11,15 @@
 #include <sstream>
 
 #include "engine/errors.hpp"
-#include "geometry/points_file.hpp"
-#include "tools/scene.hpp"
-#include "tools/scene_build.hpp"
+#include "tools/scene/build.hpp"
+#include "tools/scene/points_file.hpp"
+#include "tools/scene/scene.hpp"
 
 namespace dhpd {
 namespace {
 
 namespace fs = std::filesystem;
-using geometry::PointsFileOptions;
+using scene::PointsFileOptions;
 
 PointsFileOptions options_2d() {
   PointsFileOptions o;
@@ -31,7 +31,7 @@ PointsFileOptions options_2d() {
 
 geometry::PointSet parse(const std::string& text, const PointsFileOptions& o) {
   std::istringstream in(text);
-  return geometry::parse_points(in, "pts.txt", o);
+  return scene::parse_points(in, "pts.txt", o);
 }
 
 /// The InputError message of parsing `text`, or "" when it parses.
@@ -135,7 +135,7 @@ TEST(PointsFile, EachErrorNamesFileLineAndProblem) {
             "last column");
   EXPECT_EQ(error_of("# only a comment\n\n", o),
             "pts.txt: the points file holds no point (expected lines of 'x y volume [material]')");
-  EXPECT_THROW(geometry::read_points_file("/nonexistent/dhpd/pts.txt", o), InputError);
+  EXPECT_THROW(scene::read_points_file("/nonexistent/dhpd/pts.txt", o), InputError);
 }
 
 /// A fresh directory for scene and points files, removed at the end of the test.

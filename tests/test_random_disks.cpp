@@ -7,7 +7,7 @@
 
 #include "engine/errors.hpp"
 #include "geometry/random_disks.hpp"
-#include "tools/scene.hpp"
+#include "tools/scene/scene.hpp"
 
 namespace dhpd {
 namespace {

@@ -5,7 +5,7 @@
 
 #include "engine/errors.hpp"
 #include "tests/scene_samples.hpp"
-#include "tools/scene.hpp"
+#include "tools/scene/scene.hpp"
 
 namespace dhpd::scene {
 namespace {

@@ -7,8 +7,8 @@
 
 #include "engine/errors.hpp"
 #include "tests/support.hpp"
-#include "tools/scene.hpp"
-#include "tools/scene_build.hpp"
+#include "tools/scene/build.hpp"
+#include "tools/scene/scene.hpp"
 
 namespace dhpd::geometry {
 namespace {

@@ -17,8 +17,8 @@
 #include <variant>
 #include <vector>
 
-#include "tools/run_outputs.hpp"
-#include "tools/vtk_writer.hpp"
+#include "tools/output/text_outputs.hpp"
+#include "tools/output/vtk_writer.hpp"
 
 namespace {
 

@@ -11,8 +11,8 @@
 #include <map>
 #include <string>
 
-#include "tools/scene.hpp"
-#include "tools/scene_build.hpp"
+#include "tools/scene/build.hpp"
+#include "tools/scene/scene.hpp"
 
 namespace dhpd {
 namespace {

@@ -16,7 +16,7 @@
 #include <string>
 
 #include "engine/errors.hpp"
-#include "geometry/points_file.hpp"
+#include "tools/scene/points_file.hpp"
 
 namespace {
 
@@ -25,9 +25,9 @@ namespace {
   std::abort();
 }
 
-dhpd::geometry::PointsFileOptions options_from(std::uint8_t byte) {
+dhpd::scene::PointsFileOptions options_from(std::uint8_t byte) {
   constexpr double kSections[4] = {1.0, 2e-3, 1e-300, 1e300};
-  dhpd::geometry::PointsFileOptions o;
+  dhpd::scene::PointsFileOptions o;
   o.dim = 1 + byte % 3;
   if ((byte / 3) % 2 == 1) o.default_material = 1;
   o.section = o.dim == 3 ? 1.0 : kSections[(byte / 6) % 4];
@@ -35,7 +35,7 @@ dhpd::geometry::PointsFileOptions options_from(std::uint8_t byte) {
   return o;
 }
 
-void check_points(const dhpd::geometry::PointSet& pts, const dhpd::geometry::PointsFileOptions& o) {
+void check_points(const dhpd::geometry::PointSet& pts, const dhpd::scene::PointsFileOptions& o) {
   if (pts.size() == 0) contract_broken("accepted a file without points", "");
   for (std::size_t i = 0; i < pts.size(); ++i) {
     for (int a = 0; a < 3; ++a)
@@ -56,7 +56,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const auto options = options_from(data[0]);
   std::istringstream in(std::string(reinterpret_cast<const char*>(data) + 1, size - 1));
   try {
-    check_points(dhpd::geometry::parse_points(in, "fuzz.pts", options), options);
+    check_points(dhpd::scene::parse_points(in, "fuzz.pts", options), options);
   } catch (const dhpd::InputError& e) {
     if (std::string(e.what()).rfind("fuzz.pts", 0) != 0)
       contract_broken("InputError does not start with the file name", e.what());

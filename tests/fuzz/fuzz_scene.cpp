@@ -17,8 +17,8 @@
 #include <vector>
 
 #include "engine/errors.hpp"
-#include "tools/scene.hpp"
-#include "tools/scene_build.hpp"
+#include "tools/scene/build.hpp"
+#include "tools/scene/scene.hpp"
 
 namespace {
 

@@ -1,0 +1,162 @@
+// The dhpd command line: run, check, bench, plot, report, study, stress. The only place errors
+// become exit codes: 0 success, 1 internal error, 2 bad input (scene, checkpoint or command
+// line), 3 unstable run, 130 / 143 interrupted by SIGINT / SIGTERM (after a checkpoint).
+#include <fmt/core.h>
+#include <omp.h>
+#include <CLI/CLI.hpp>
+#include <iostream>
+
+#include "engine/errors.hpp"
+#include "tools/bench/bench.hpp"
+#include "tools/cli/python_commands.hpp"
+#include "tools/run/runner.hpp"
+#include "tools/scene/scene.hpp"
+
+namespace {
+
+std::vector<dhpd::scene::Override> parse_overrides(const std::vector<std::string>& sets) {
+  std::vector<dhpd::scene::Override> out;
+  for (const auto& s : sets) {
+    const auto eq = s.find('=');
+    if (eq == std::string::npos || eq == 0)
+      throw dhpd::InputError(
+          fmt::format("--set {}: expected key.path=value (e.g. --set body.0.spacing=5e-4)", s));
+    out.push_back({s.substr(0, eq), s.substr(eq + 1)});
+  }
+  return out;
+}
+
+int report(const char* kind, const std::exception& e, int code) {
+  std::cerr << "dhpd: " << kind << ": " << e.what() << "\n";
+  return code;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"dhpd: dual-horizon peridynamics for dynamic fracture"};
+  app.require_subcommand(1);
+  std::string scene_file, out_dir, restart_dir;
+  std::vector<std::string> sets;
+  int threads = 0;
+  bool quiet = false;
+
+  auto* run = app.add_subcommand("run", "run a scene: VTK frames, history.csv, summary.json");
+  run->add_option("scene", scene_file, "scene file (YAML)")->required();
+  run->add_option("-o,--out", out_dir, "output directory (overrides output.directory)");
+  run->add_option("--set", sets, "override a scene key: key.path=value (repeatable)");
+  run->add_option("-t,--threads", threads, "OpenMP threads (default: all cores)")
+      ->check(CLI::Range(1, 1024));
+  run->add_flag("-q,--quiet", quiet, "no log lines or progress");
+  run->add_option(
+         "--restart", restart_dir,
+         "continue the run whose outputs are in DIR from DIR/checkpoint.bin (or from a checkpoint "
+         "file); "
+         "give the same scene and --set overrides as the first run")
+      ->option_text("DIR");
+  run->footer(
+      "Checkpoints: OUT/checkpoint.bin at the end of a run and every output.checkpoint_every "
+      "steps (the one before stays as checkpoint.prev.bin). SIGINT/SIGTERM finish the step, "
+      "write a checkpoint, a final frame and summary.json (status interrupted), then exit 130 / "
+      "143. A restarted run's results equal an uninterrupted run's, bit for bit.\n"
+      "Example: dhpd run plate.yaml -o out --restart out");
+
+  auto* check = app.add_subcommand("check", "validate a scene and print its derived quantities");
+  check->add_option("scene", scene_file, "scene file (YAML)")->required();
+  check->add_option("--set", sets, "override a scene key: key.path=value (repeatable)");
+
+  dhpd::BenchOptions bench_opt;
+  auto* bench = app.add_subcommand("bench", "force-kernel and step throughput on a 3D lattice");
+  bench
+      ->add_option("--cells", bench_opt.cells,
+                   "lattice cells per side (default 60: 216k particles)")
+      ->check(CLI::Range(4, 400));
+  bench->add_option("--steps", bench_opt.steps, "steps per sample")->check(CLI::Range(1, 100000));
+  bench->add_option("--repeats", bench_opt.repeats, "samples (median reported)")
+      ->check(CLI::Range(1, 100));
+  bench->add_option("--threads", bench_opt.threads, "thread counts to compare")
+      ->check(CLI::Range(1, 1024));
+  bench->add_flag("--refinement", bench_opt.refinement,
+                  "time refinement events on the same refined set in bodies of N, 4N, 16N");
+
+  dhpd::PlotOptions plot_opt;
+  auto* plot = app.add_subcommand(
+      "plot", "pictures of a run in OUTDIR/plots/: field frames, energies, momentum, dt, cracks");
+  plot->add_option("outdir", plot_opt.directory, "output directory of a run")->required();
+  plot->add_option("--times", plot_opt.times, "plot the frames nearest these times, s: T1,T2,...")
+      ->delimiter(',');
+  plot->add_option("--field", plot_opt.field, "frame field to plot (default damage)");
+  auto* report_cmd = app.add_subcommand(
+      "report", "OUTDIR/report.md: the run, its pictures, measured vs published numbers");
+  report_cmd->add_option("outdir", plot_opt.directory, "output directory of a run")->required();
+  dhpd::StudyOptions study_opt;
+  auto* study = app.add_subcommand(
+      "study",
+      "what accuracy costs in time: run a study's variants, write study.csv/.md, pareto.png "
+      "(exit 1 if a variant misses the study's criteria)");
+  study->add_option("study", study_opt.study_file, "study file (YAML, see tools/python/study.py)")
+      ->required();
+  study->add_option("-o,--out", study_opt.directory, "output folder (default study-NAME)");
+  dhpd::StressOptions stress_opt;
+  auto* stress = app.add_subcommand(
+      "stress",
+      "stability suite: run each case with 1 and 2 threads, check NaN/Inf, energy, "
+      "momentum, volumes, reproducibility; write stress.csv/.md (exit 1 if any fails)");
+  stress->add_option(
+      "suite", stress_opt.suite_file,
+      "suite file (YAML, see tools/python/stress.py; default cases/stress/suite.yaml)");
+  stress->add_option("-o,--out", stress_opt.directory, "output folder (default stress-NAME)");
+  stress->add_option("--check", stress_opt.check_directories,
+                     "check the outputs of existing runs instead: DIR1 [DIR2 of the 2-thread run]");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::cerr << "dhpd: error: " << e.what() << "\n"
+              << "run 'dhpd --help' for usage\n";
+    return 2;
+  }
+
+  try {
+    if (*study)
+      return dhpd::run_study_script(dhpd::find_tool_script(DHPD_SOURCE_DIR, "study.py"), study_opt);
+    if (*stress)
+      return dhpd::run_stress_script(dhpd::find_tool_script(DHPD_SOURCE_DIR, "stress.py"),
+                                     stress_opt);
+    if (*plot || *report_cmd) {
+      dhpd::check_run_directory(plot_opt.directory);
+      return dhpd::run_plot_script(dhpd::find_plot_script(DHPD_SOURCE_DIR),
+                                   *plot ? "plot" : "report", plot_opt);
+    }
+    if (*bench) {
+      if (bench_opt.refinement)
+        dhpd::run_refinement_bench(bench_opt, std::cout);
+      else
+        dhpd::run_bench(bench_opt, std::cout);
+      return 0;
+    }
+    const auto scene = dhpd::scene::load_scene(scene_file, parse_overrides(sets));
+    if (*check) {
+      dhpd::check_scene(scene, std::cout);
+      return 0;
+    }
+    dhpd::RunOptions opt;
+    if (!out_dir.empty()) opt.output_directory = out_dir;
+    opt.threads = threads;
+    opt.progress = !quiet;
+    opt.echo = !quiet;
+    if (!restart_dir.empty()) opt.restart_from = restart_dir;
+    dhpd::run_scene(scene, opt);
+    return 0;
+  } catch (const dhpd::InputError& e) {
+    return report("error", e, 2);
+  } catch (const dhpd::InstabilityError& e) {
+    return report("unstable run stopped", e, 3);
+  } catch (const dhpd::RunInterrupted& e) {
+    return report("interrupted", e, 128 + e.signal());
+  } catch (const std::exception& e) {
+    return report("internal error", e, 1);
+  }
+}

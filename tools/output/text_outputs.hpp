@@ -1,0 +1,129 @@
+// Text outputs of a run: history.csv, refinement.csv, cracks.csv, summary.json and the terminal
+// progress line.
+#pragma once
+#include <cstdint>
+#include <fstream>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "tools/measure/crack_measure.hpp"
+
+namespace dhpd::io {
+
+/// The length of a CSV file as written so far (every row is flushed).
+std::uint64_t bytes_written(std::ofstream& out);
+
+struct HistoryRow {
+  std::int64_t step = 0;
+  double time = 0, dt = 0;
+  std::int64_t particles = 0, bonds = 0, broken_bonds = 0;
+  double kinetic_energy = 0, strain_energy = 0, external_work = 0;
+  double momentum[3] = {0, 0, 0};
+};
+
+/// history.csv with a fixed header; every row is flushed so a crash keeps what was written.
+class HistoryWriter {
+ public:
+  /// `append`: continue a file (a restart has cut it back to the checkpoint), no new header.
+  explicit HistoryWriter(const std::string& path, bool append = false);
+  void write(const HistoryRow& row);
+  std::uint64_t bytes() { return bytes_written(out_); }
+
+ private:
+  std::ofstream out_;
+};
+
+/// One row of refinement.csv: what an event did and when.
+struct RefinementRow {
+  std::int64_t generation = 0, step = 0;
+  double time = 0;
+  std::int64_t parents = 0, children = 0, dropped = 0, particles = 0, bonds = 0;
+  std::int64_t rows_rebuilt = 0, bonds_rebuilt = 0, rows_touched = 0, started_broken = 0;
+  std::int64_t started_overstretched = 0, reduced_fits = 0;
+  double mapping_energy = 0.0;  ///< kinetic + strain energy the state mapping changed (J)
+  double dt = 0, seconds = 0;
+  int resorted = 0;
+  double resort_seconds = 0;
+};
+
+/// refinement.csv with a fixed header, flushed per row.
+class RefinementWriter {
+ public:
+  explicit RefinementWriter(const std::string& path, bool append = false);
+  void write(const RefinementRow& row);
+  std::uint64_t bytes() { return bytes_written(out_); }
+
+ private:
+  std::ofstream out_;
+};
+
+/// cracks.csv (`measure`): one row per tip and measurement, header first, flushed per row.
+class CrackWriter {
+ public:
+  CrackWriter(const std::string& path, std::vector<std::string> tip_names, bool append = false);
+  void write(const measure::TipRow& row);
+  std::uint64_t bytes() { return bytes_written(out_); }
+
+ private:
+  std::ofstream out_;
+  std::vector<std::string> names_;
+};
+
+/// What summary.json says about the cracks of a run with `measure`.
+struct CrackReport {
+  double rayleigh_speed = 0.0;
+  std::vector<measure::CrackSummary> cracks;
+  std::optional<measure::Published> published;
+};
+
+struct PhaseSeconds {
+  std::string name;
+  double seconds = 0;
+};
+
+/// The particles of one material at the end of a run and the bonds they own (a bond uses its
+/// owner's material, CMAME 2017 §5.2).
+struct MaterialCount {
+  std::string name;
+  std::int64_t particles = 0, bonds = 0, broken_bonds = 0;
+  std::int64_t damaged_particles = 0;  ///< particles with at least one broken bond of their own
+};
+
+struct Summary {
+  std::string scene_name, scene_file, status = "completed", message;
+  double wall_seconds = 0;
+  std::int64_t steps = 0, particles_start = 0, particles_end = 0, bonds = 0, broken_bonds = 0;
+  std::int64_t refinement_events = 0;
+  double end_time = 0, dt = 0, critical_dt = 0;
+  double bond_updates_per_second = 0, particle_steps_per_second = 0;
+  int threads = 1;
+  std::vector<std::string> active_effects;
+  std::vector<PhaseSeconds> phases;
+  std::vector<MaterialCount> materials;
+  std::optional<CrackReport> cracks;  ///< with `measure` only
+};
+
+/// Writes summary.json (atomically: temporary file, then rename).
+void write_summary(const std::string& path, const Summary& s);
+/// Writes `text` to `path` via a temporary file in the same directory and a rename.
+void write_text_atomically(const std::string& path, const std::string& text);
+
+/// One-line progress on a terminal: step, time, ETA, broken bonds. Silent when stderr is not a
+/// terminal or the CI environment variable is set.
+class Progress {
+ public:
+  /// `first_step`: the steps done before this process (a restart); the ETA uses only the rest.
+  Progress(std::int64_t total_steps, bool enabled, std::int64_t first_step = 0);
+  void update(std::int64_t step, double time, std::int64_t broken_bonds, double elapsed_seconds);
+  void finish();
+  static bool wanted();  ///< stderr is a terminal and CI is unset
+
+ private:
+  std::int64_t total_;
+  bool enabled_;
+  std::int64_t first_;
+  double last_print_ = -1.0;
+};
+
+}  // namespace dhpd::io

@@ -1,0 +1,220 @@
+#!/usr/bin/python3
+"""Pictures and a Markdown report of a dhpd run directory (what `dhpd plot` and `dhpd report` run).
+
+    /usr/bin/python3 tools/python/plot_run.py plot OUT [--times T1,T2,...] [--field damage]
+    /usr/bin/python3 tools/python/plot_run.py report OUT
+
+`plot` writes OUT/plots/:
+  <field>_<k>.png   a frame field (default damage, fixed 0-1 scale), k = 0, 1, ...: 4 frames spread
+                    evenly over the .pvd, or the frames nearest the --times (in s); 3D frames show
+                    the particles of the mid-thickness slice
+  energies.png      kinetic, strain, external work and kinetic + strain - external vs time
+  momentum.png      |P| vs time (log scale when positive)
+  particles_dt.png  particle count and time step vs time
+  tip_speed.png     with cracks.csv: speed of each crack tip vs time, with the Rayleigh speed
+  crack_path.png    with cracks.csv: the tip positions over the last damage frame
+`report` makes the plots when they are missing and writes OUT/report.md: the run, the pictures and
+a table of measured against published numbers (summary.json "published").
+
+Optional inputs (frames, cracks.csv, the Rayleigh speed) are skipped with a note. Exit code 2 for a
+missing or incomplete run directory and for a missing Python module (named with its Debian
+package: python3-matplotlib, python3-numpy, python3-vtk9).
+"""
+import argparse
+import importlib
+import math
+import os
+import sys
+
+
+def require(module, package):
+    """Imports `module`, or stops with exit code 2 naming the Debian package that provides it."""
+    try:
+        return importlib.import_module(module)
+    except ImportError as error:
+        print(f"dhpd: error: the Python module '{module}' is missing ({error}); install the "
+              f"Debian package {package}: sudo apt-get install {package}", file=sys.stderr)
+        sys.exit(2)
+
+
+np = require("numpy", "python3-numpy")
+require("matplotlib", "python3-matplotlib").use("Agg")
+plt = require("matplotlib.pyplot", "python3-matplotlib")
+require("vtkmodules.vtkIOXML", "python3-vtk9")
+require("vtkmodules.util.numpy_support", "python3-vtk9")
+
+# The rest of the tool, beside this file (imported once the modules above are known to exist).
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import run_report  # noqa: E402
+from run_data import US, InputError, load_run  # noqa: E402
+from run_frames import (draw_particles, frame_title, mid_slice, particles_figure,  # noqa: E402
+                        plot_frames, read_frame, save)
+
+# ---- history and cracks -------------------------------------------------------------------------
+
+
+def time_axes(run, ylabel, title):
+    """A figure with time in µs on x; returns it, its axes and the history times in µs."""
+    fig, ax = plt.subplots(figsize=(8, 5))
+    ax.set_xlabel("time (µs)")
+    ax.set_ylabel(ylabel)
+    ax.set_title(f"{run.name}: {title}")
+    ax.grid(alpha=0.3)
+    return fig, ax, run.history["time"] * US
+
+
+def plot_energies(run, png):
+    h = run.history
+    fig, ax, t = time_axes(run, "energy (J)", "energies")
+    ax.plot(t, h["kinetic_energy"], label="kinetic")
+    ax.plot(t, h["strain_energy"], label="strain")
+    ax.plot(t, h["external_work"], label="external work")
+    balance = h["kinetic_energy"] + h["strain_energy"] - h["external_work"]
+    ax.plot(t, balance, "k--", label="kinetic + strain − external work")
+    ax.legend()
+    save(fig, png)
+
+
+def plot_momentum(run, png):
+    h = run.history
+    magnitude = np.sqrt(h["momentum_x"] ** 2 + h["momentum_y"] ** 2 + h["momentum_z"] ** 2)
+    fig, ax, t = time_axes(run, "|P| (kg m/s)", "total momentum")
+    positive = magnitude > 0
+    if positive.any():  # a log scale shows round-off; zeros cannot be drawn on it
+        ax.set_yscale("log")
+        hidden = int((~positive).sum())
+        label = "|P|" + (f" ({hidden} zero values not shown)" if hidden else "")
+        ax.plot(t[positive], magnitude[positive], ".-", label=label)
+    else:
+        ax.plot(t, magnitude, ".-", label="|P| (all zero)")
+    ax.legend()
+    save(fig, png)
+
+
+def plot_particles_dt(run, png):
+    """Particles on the left axis (blue), dt on the right (orange, dashed)."""
+    h = run.history
+    fig, ax, t = time_axes(run, "particles", "particle count and time step")
+    ax.plot(t, h["particles"], color="tab:blue", drawstyle="steps-post")
+    ax.yaxis.label.set_color("tab:blue")
+    ax.tick_params(axis="y", colors="tab:blue")
+    right = ax.twinx()
+    right.plot(t, h["dt"], "--", color="tab:orange", drawstyle="steps-post")
+    right.set_ylabel("dt (s)", color="tab:orange")
+    right.tick_params(axis="y", colors="tab:orange")
+    save(fig, png)
+
+
+def tips(cracks):
+    """cracks.csv split by tip, in order of first appearance: [(tip, row mask)]."""
+    names = [str(v) for v in cracks["tip"]]
+    return [(tip, np.array([n == tip for n in names])) for tip in dict.fromkeys(names)]
+
+
+def tip_label(tip):
+    return f"tip {tip[:-2] if tip.endswith('.0') else tip}"
+
+
+def plot_tip_speed(run, png):
+    fig, ax, _ = time_axes(run, "tip speed (m/s)", "crack tip speed")
+    time, speed = run.cracks["time"] * US, run.cracks["speed"]
+    for tip, rows in tips(run.cracks):
+        ax.plot(time[rows], speed[rows], ".-", label=tip_label(tip))
+    rayleigh = run.summary.get("rayleigh_speed")
+    if isinstance(rayleigh, (int, float)):
+        ax.axhline(rayleigh, color="k", ls="--", label=f"Rayleigh speed c_R = {rayleigh:.4g} m/s")
+    ax.legend()
+    save(fig, png)
+
+
+def plot_crack_path(run, png):
+    """The tip positions of cracks.csv over the damage of the last frame (when there is one)."""
+    if run.frames:
+        frame = mid_slice(read_frame(run.frames[-1][1], "damage"))
+        fig, ax = particles_figure(frame)
+        draw_particles(fig, ax, frame, cmap="Greys", vmin=0.0, vmax=1.0, alpha=0.6)
+        title = frame_title(frame, f"{run.name}: crack tips over the damage")
+    else:
+        fig, ax = plt.subplots(figsize=(8, 6))
+        ax.set_aspect("equal")
+        ax.set_xlabel("x (m)")
+        ax.set_ylabel("y (m)")
+        title = f"{run.name}: crack tips (no frame to draw under them)"
+    for tip, rows in tips(run.cracks):
+        ax.plot(run.cracks["x"][rows], run.cracks["y"][rows], "o-", ms=3, label=tip_label(tip))
+    ax.set_title(title)
+    ax.legend()
+    save(fig, png)
+
+
+HISTORY_PLOTS = (("energies.png", plot_energies), ("momentum.png", plot_momentum),
+                 ("particles_dt.png", plot_particles_dt))
+CRACK_PLOTS = (("tip_speed.png", plot_tip_speed), ("crack_path.png", plot_crack_path))
+
+
+def plot(run, name="damage", times=None):
+    """Every picture the run's inputs allow, in OUT/plots/; notes for what was skipped."""
+    os.makedirs(run.path("plots"), exist_ok=True)
+    plot_frames(run, name, times)
+    for png, draw in HISTORY_PLOTS + (CRACK_PLOTS if run.cracks is not None else ()):
+        draw(run, run.path("plots", png))
+        print(f"wrote {run.path('plots', png)}")
+    for note in run.notes:
+        print(f"note: {note}")
+
+
+def default_pictures(run):
+    """The pictures `plot` makes by default for what the run holds (the report wants them)."""
+    wanted = [png for png, _ in HISTORY_PLOTS]
+    if run.cracks is not None:
+        wanted += [png for png, _ in CRACK_PLOTS]
+    return wanted
+
+
+# ---- command line -------------------------------------------------------------------------------
+
+
+def parse_times(text):
+    """T1,T2,... in seconds."""
+    try:
+        times = [float(t) for t in text.split(",") if t.strip()]
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected times in s separated by commas, got '{text}'")
+    if not times or not all(math.isfinite(t) for t in times):
+        raise argparse.ArgumentTypeError(f"expected finite times in s, got '{text}'")
+    return times
+
+
+def parse_arguments(argv):
+    parser = argparse.ArgumentParser(description=__doc__,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    commands = parser.add_subparsers(dest="command", required=True)
+    plot_parser = commands.add_parser("plot", help="pictures in OUT/plots/")
+    plot_parser.add_argument("directory", help="a run's output directory")
+    plot_parser.add_argument("--times", type=parse_times,
+                             help="plot the frames nearest these times, s: T1,T2,...")
+    plot_parser.add_argument("--field", default="damage", help="frame field (default damage)")
+    report_parser = commands.add_parser("report", help="OUT/report.md")
+    report_parser.add_argument("directory", help="a run's output directory")
+    return parser.parse_args(argv)
+
+
+def main(argv=None):
+    args = parse_arguments(argv)
+    try:
+        run = load_run(args.directory)
+        if args.command == "plot":
+            plot(run, args.field, args.times)
+        else:
+            run_report.report(run, plot, default_pictures(run))
+    except InputError as error:
+        print(f"dhpd: error: {error}", file=sys.stderr)
+        return 2
+    except OSError as error:  # e.g. plots/ cannot be written
+        print(f"dhpd: error: {error}", file=sys.stderr)
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

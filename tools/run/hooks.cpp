@@ -1,0 +1,128 @@
+// Frame schedule, refinement log and log lines of a run (see run_parts.hpp).
+#include "tools/run/hooks.hpp"
+
+#include <fmt/format.h>
+#include <omp.h>
+
+namespace dhpd::run {
+
+namespace fs = std::filesystem;
+
+std::vector<std::int64_t> frame_steps(const scene::Scene& s, std::int64_t total) {
+  std::vector<std::int64_t> out;
+  if (s.output.every) {
+    for (std::int64_t k = *s.output.every; k < total; k += *s.output.every) out.push_back(k);
+  } else {
+    const std::int64_t frames = s.output.frames.value_or(20);
+    for (std::int64_t k = 1; k < frames; ++k) {
+      const std::int64_t step = (k * total + frames / 2) / frames;
+      if (step > 0 && step < total && (out.empty() || out.back() != step)) out.push_back(step);
+    }
+  }
+  if (total > 0) out.push_back(total);
+  return out;
+}
+
+std::vector<io::MaterialCount> material_counts(const scene::Scene& s, const Simulation& sim) {
+  std::vector<io::MaterialCount> counts;
+  for (const auto& m : s.materials) counts.push_back({m.name});
+  const ParticleStore& p = sim.particles();
+  const BondList& b = sim.bonds();
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    io::MaterialCount& c = counts.at(static_cast<std::size_t>(p.material[i]));
+    std::int64_t broken = 0;
+    for (auto k = b.begin(i); k < b.end(i); ++k)
+      broken += b.intact[static_cast<std::size_t>(k)] ? 0 : 1;
+    c.particles += 1;
+    c.bonds += b.end(i) - b.begin(i);
+    c.broken_bonds += broken;
+    c.damaged_particles += broken > 0 ? 1 : 0;
+  }
+  return counts;
+}
+
+void RefinementHook::log(const Simulation& sim, const RefinementEvent& ev) {
+  io::RefinementRow r;
+  r.generation = ev.generation;
+  r.step = sim.steps_done();
+  r.time = sim.time();
+  r.parents = static_cast<std::int64_t>(ev.parents);
+  r.children = static_cast<std::int64_t>(ev.children);
+  r.dropped = static_cast<std::int64_t>(ev.dropped);
+  r.particles = static_cast<std::int64_t>(sim.particles().size());
+  r.bonds = static_cast<std::int64_t>(ev.bonds);
+  r.rows_rebuilt = static_cast<std::int64_t>(ev.rows_rebuilt);
+  r.bonds_rebuilt = static_cast<std::int64_t>(ev.bonds_rebuilt);
+  r.rows_touched = static_cast<std::int64_t>(ev.rows_touched);
+  r.started_broken = ev.started_broken;
+  r.started_overstretched = ev.started_overstretched;
+  r.mapping_energy = ev.energy_change;
+  r.reduced_fits = static_cast<std::int64_t>(ev.reduced_fits);
+  r.dt = sim.dt();
+  r.seconds = ev.seconds;
+  r.resorted = ev.resorted ? 1 : 0;
+  r.resort_seconds = ev.resort_seconds;
+  csv->write(r);
+  ++events;
+  if (echo)
+    fmt::print(
+        "dhpd: refinement {} at step {} (t = {:.4g} s): {} parents -> {} children; {} "
+        "particles; {} rows, {} bonds rebuilt ({} start broken by no-healing, {} overstretched); "
+        "dt = {:.4g} s; {:.4f} s{}\n",
+        r.generation, r.step, r.time, r.parents, r.children, r.particles, r.rows_rebuilt,
+        r.bonds_rebuilt, r.started_broken, r.started_overstretched, r.dt, r.seconds,
+        ev.resorted ? fmt::format(" (+ re-sort {:.4f} s)", ev.resort_seconds) : "");
+}
+
+namespace {
+
+/// One line per measured tip: initiation, angle, speeds against c_R, branchings.
+void log_cracks(const io::CrackReport& report) {
+  const double c_r = report.rayleigh_speed;
+  for (const auto& c : report.cracks) {
+    auto text = [](const std::optional<double>& v, const char* format) {
+      return v ? fmt::format(fmt::runtime(format), *v) : std::string("none");
+    };
+    fmt::print(
+        "dhpd: crack {}: initiation {} s, angle {} deg at {} horizons, {} deg at the end, max "
+        "speed "
+        "{} m/s ({} c_R), mean {} m/s, {} branching(s){}\n",
+        c.name, text(c.initiation_time, "{:.4g}"), text(c.initial_angle_deg, "{:.1f}"),
+        measure::kInitialHorizons, text(c.angle_deg, "{:.1f}"), text(c.max_speed, "{:.4g}"),
+        text(c.max_speed ? std::optional<double>(*c.max_speed / c_r) : std::nullopt, "{:.2f}"),
+        text(c.mean_speed, "{:.4g}"), c.branch_times.size(),
+        c.branch_times.empty()
+            ? ""
+            : fmt::format(" at {:.4g} s (tip speed {:.4g} m/s)", fmt::join(c.branch_times, ", "),
+                          fmt::join(c.branch_speeds, ", ")));
+  }
+}
+
+}  // namespace
+
+void log_start(const scene::Scene& s, const Simulation& sim, std::int64_t steps,
+               const fs::path& dir) {
+  fmt::print("dhpd: scene '{}' ({}), {}D, model {}, partial volume {}\n", s.name, s.file,
+             s.dimension, to_string(s.model), to_string(s.partial_volume));
+  fmt::print(
+      "dhpd: {} particles, {} bonds, {} interactions; dt = {:.4g} s (stable {:.4g} s), {} steps\n",
+      sim.particles().size(), sim.bonds().size(), sim.interactions().size(), sim.dt(),
+      sim.critical_dt(), steps);
+  fmt::print("dhpd: active effects: elasticity{}{}; threads {}; output in {}\n",
+             s.effects.fracture ? ", fracture" : "", s.refinement ? ", refinement" : "",
+             omp_get_max_threads(), dir.string());
+}
+
+void log_end(const io::Summary& sum) {
+  fmt::print(
+      "dhpd: {} in {:.3f} s: {} steps, {} broken bonds, {:.3g} bond updates/s, {:.3g} "
+      "particle-steps/s\n",
+      sum.status, sum.wall_seconds, sum.steps, sum.broken_bonds, sum.bond_updates_per_second,
+      sum.particle_steps_per_second);
+  std::string phases;
+  for (const auto& p : sum.phases) phases += fmt::format(" {} {:.3f} s;", p.name, p.seconds);
+  fmt::print("dhpd: time per phase:{}\n", phases);
+  if (sum.cracks) log_cracks(*sum.cracks);
+}
+
+}  // namespace dhpd::run

@@ -1,0 +1,116 @@
+// Parts of the run loop (tools/runner.cpp): the frame schedule, the refinement and crack hooks
+// with their CSV logs, and the log lines of a run.
+#pragma once
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "engine/simulation.hpp"
+#include "refine/refiner.hpp"
+#include "tools/measure/crack_measure.hpp"
+#include "tools/output/text_outputs.hpp"
+#include "tools/scene/scene.hpp"
+
+namespace dhpd::run {
+
+/// Steps at which frames are written after frame 0: every N steps, or F frames spread evenly.
+std::vector<std::int64_t> frame_steps(const scene::Scene& s, std::int64_t total);
+
+/// When a run ends and frames are due. A run with refinement and `time.end` runs to the end time
+/// (dt changes at events), with `output.frames` spread over time; otherwise steps are planned.
+class Schedule {
+ public:
+  Schedule(const scene::Scene& s, std::int64_t planned, bool by_time)
+      : s_(s), planned_(planned), by_time_(by_time) {
+    if (!by_time_) {
+      steps_ = frame_steps(s, planned);
+    } else if (!s.output.every) {
+      const std::int64_t frames = s.output.frames.value_or(20);
+      for (std::int64_t k = 1; k < frames; ++k)
+        times_.push_back(*s.time.end * static_cast<double>(k) / static_cast<double>(frames));
+    }
+  }
+  bool finished(std::int64_t k, double t) const {
+    return by_time_ ? t >= *s_.time.end * (1.0 - 1e-12) : k >= planned_;
+  }
+  /// Whether step k (just done, at time t) writes a frame; call once per step.
+  bool frame(std::int64_t k, double t) {
+    if (finished(k, t)) return true;
+    if (!by_time_) {
+      const bool due = next_ < steps_.size() && steps_[next_] == k;
+      next_ += due ? 1 : 0;
+      return due;
+    }
+    if (s_.output.every) return k % *s_.output.every == 0;
+    bool due = false;
+    while (next_ < times_.size() && t >= times_[next_] * (1.0 - 1e-12)) due = true, ++next_;
+    return due;
+  }
+  /// How many planned frame steps or times are behind (checkpoints), and back to that.
+  std::uint64_t position() const { return next_; }
+  void resume(std::uint64_t position) {
+    next_ = std::min<std::size_t>(position, std::max(steps_.size(), times_.size()));
+  }
+
+ private:
+  const scene::Scene& s_;
+  std::int64_t planned_;
+  bool by_time_;
+  std::vector<std::int64_t> steps_;
+  std::vector<double> times_;
+  std::size_t next_ = 0;
+};
+
+/// The refiner of a scene with effects.refinement and its log (refinement.csv).
+struct RefinementHook {
+  RefinementHook(const refine::Settings& settings, bool echo_lines)
+      : refiner(settings), echo(echo_lines) {}
+  refine::Refiner refiner;
+  std::vector<RefinementEvent> pending;  ///< zone events applied before the output existed
+  std::unique_ptr<io::RefinementWriter> csv;
+  bool echo = true;
+  std::int64_t events = 0;
+
+  /// One row of refinement.csv (and a log line) for an event.
+  void log(const Simulation& sim, const RefinementEvent& ev);
+};
+
+/// Crack measurements of a scene with `measure`: cracks.csv and the summary's "cracks".
+struct CrackHook {
+  /// `append`: cracks.csv continues (a restart); `tracker` holds the measurements so far.
+  CrackHook(const scene::MeasureSpec& spec, measure::CrackTracker measured,
+            const std::filesystem::path& dir, bool append, double c_r)
+      : tracker(std::move(measured)),
+        csv((dir / "cracks.csv").string(), tip_names(spec.settings), append),
+        published(spec.published),
+        rayleigh_speed(c_r) {}
+  measure::CrackTracker tracker;
+  io::CrackWriter csv;
+  std::optional<measure::Published> published;
+  double rayleigh_speed;
+
+  static std::vector<std::string> tip_names(const measure::Settings& s) {
+    std::vector<std::string> names;
+    for (const auto& t : s.tips) names.push_back(t.name);
+    return names;
+  }
+  void take_measurement(Simulation& sim) {
+    sim.update_damage();
+    auto t = sim.timers().scope(Phase::Diagnostics);
+    for (const auto& row : tracker.measure(sim.particles(), sim.steps_done(), sim.time()))
+      csv.write(row);
+  }
+  io::CrackReport report() const { return {rayleigh_speed, tracker.summary(), published}; }
+};
+
+/// Per material of the scene: its particles, the bonds they own and how many of those are broken.
+std::vector<io::MaterialCount> material_counts(const scene::Scene& s, const Simulation& sim);
+
+void log_start(const scene::Scene& s, const Simulation& sim, std::int64_t steps,
+               const std::filesystem::path& dir);
+void log_end(const io::Summary& sum);
+
+}  // namespace dhpd::run

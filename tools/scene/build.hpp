@@ -1,0 +1,28 @@
+// From a validated scene to a ready simulation: lattice fill, materials, regions, derived values.
+#pragma once
+#include <memory>
+#include <string>
+
+#include "engine/simulation.hpp"
+#include "tools/scene/scene.hpp"
+
+namespace dhpd::scene {
+
+/// The setup the engine needs; throws InputError (with file:line) for a region that selects
+/// no particle and for parts that produce no particle.
+SimulationSetup build_setup(const Scene& scene);
+
+/// Builds the simulation; a fixed `time.dt` above the stable step is refused with its location.
+std::unique_ptr<Simulation> build_simulation(const Scene& scene);
+
+/// Number of steps the scene asks for (from time.steps, or ceil(time.end / dt)).
+std::int64_t planned_steps(const Scene& scene, double dt);
+
+/// Derived quantities as YAML text (appended to scene.resolved.yaml and printed by `dhpd check`).
+std::string derived_yaml(const Scene& scene, const Simulation& sim);
+
+/// Memory of a run's state in bytes: the simulation's snapshot size, twice (the state and the
+/// last good copy the instability guard keeps), without the program itself (about 60 MB).
+double estimated_memory_bytes(const Simulation& sim);
+
+}  // namespace dhpd::scene

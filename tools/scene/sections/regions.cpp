@@ -1,0 +1,168 @@
+// Scene sections made of regions: cracks, no-fail zones, material regions, initial and boundary
+// conditions.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "tools/scene/detail.hpp"
+
+namespace dhpd::scene::detail {
+namespace {
+
+/// The centre of the region's bounds, or 0 on the axes where the region is unbounded.
+geometry::Vec3 region_centre(const geometry::Shape& region, int dim) {
+  const geometry::Box box = region.bounds(dim);
+  geometry::Vec3 centre{0, 0, 0};
+  for (int a = 0; a < dim; ++a)
+    if (std::isfinite(box.min[a]) && std::isfinite(box.max[a]))
+      centre[a] = 0.5 * (box.min[a] + box.max[a]);
+  return centre;
+}
+
+/// Refuses axis keys the dimension does not have, before the map is read.
+void refuse_missing_axes(const Cursor& c, int dim) {
+  if (!c.node().IsMap()) return;
+  for (auto it = c.node().begin(); it != c.node().end(); ++it) {
+    const auto axes = axis_names(3);
+    const auto found = std::find(axes.begin(), axes.end(), it->first.Scalar());
+    if (found != axes.end() && found - axes.begin() >= dim) {
+      c.child(*found, it->second, it->first)
+          .fail(fmt::format("axis '{}' does not exist in a {}D scene", *found, dim),
+                join(axis_names(dim)));
+    }
+  }
+}
+
+std::array<std::optional<double>, 3> read_velocity_components(const Cursor& c, int dim) {
+  refuse_missing_axes(c, dim);
+  const MapView map(c, axis_names(dim));
+  if (map.entries().empty()) c.fail("give at least one velocity component", join(axis_names(dim)));
+  std::array<std::optional<double>, 3> velocity;
+  const auto axes = axis_names(dim);
+  for (int a = 0; a < dim; ++a)
+    if (const auto component = map.get(axes[a])) velocity[a] = component->number();
+  return velocity;
+}
+
+InitialCondition read_initial_condition(const Cursor& c, int dim) {
+  const MapView map(c, {"region", "velocity", "displacement", "strain", "origin", "gaussian"});
+  InitialCondition ic;
+  ic.region = read_shape(map.require("region"), dim);
+  if (const auto v = map.get("velocity")) ic.velocity = v->point(dim);
+  if (const auto u = map.get("displacement")) ic.displacement = u->point(dim);
+  if (const auto e = map.get("strain")) ic.strain = e->point(dim);
+  if (!ic.velocity && !ic.displacement && !ic.strain)
+    c.fail("give at least one of velocity, displacement, strain");
+  const auto origin = map.get("origin");
+  if (ic.strain && !origin && !ic.region.bounds(dim).finite(dim))
+    c.fail("the region is unbounded, so strain needs an explicit origin");
+  ic.origin = origin ? origin->point(dim) : region_centre(ic.region, dim);
+  if (const auto g = map.get("gaussian")) {
+    if (!ic.velocity && !ic.displacement)
+      g->fail("the gaussian envelope shapes velocity and displacement: give one of them");
+    const MapView envelope(*g, {"center", "width", "axis"});
+    ic.gaussian_center = envelope.require("center").point(dim);
+    ic.gaussian_width = positive_number(envelope.require("width"));
+    if (const auto axis = envelope.get("axis"))
+      ic.gaussian_axis = static_cast<int>(axis->choice(axis_names(dim)));
+  }
+  return ic;
+}
+
+BoundaryCondition read_boundary_condition(const Cursor& c, int dim) {
+  const MapView map(c, {"region", "velocity", "fixed", "traction", "normal"});
+  BoundaryCondition bc;
+  bc.region = read_shape(map.require("region"), dim);
+  const std::vector<std::string> kinds{"velocity", "fixed", "traction"};
+  const auto given =
+      std::count_if(kinds.begin(), kinds.end(), [&](const std::string& k) { return map.has(k); });
+  if (given != 1) {
+    c.fail(given == 0 ? "a boundary condition needs one of velocity, fixed, traction"
+                      : "give only one of velocity, fixed, traction per boundary condition",
+           join(kinds));
+  }
+  if (map.has("normal") && !map.has("traction"))
+    map.get("normal")->fail("normal is only used with traction");
+  if (const auto v = map.get("velocity")) {
+    bc.kind = BoundaryCondition::Kind::Velocity;
+    bc.velocity = read_velocity_components(*v, dim);
+  } else if (const auto fixed = map.get("fixed")) {
+    if (!fixed->boolean())
+      fixed->fail("fixed must be true (leave the condition out to keep the region free)", "true");
+    bc.kind = BoundaryCondition::Kind::Fixed;
+  } else {
+    bc.kind = BoundaryCondition::Kind::Traction;
+    bc.traction = map.get("traction")->point(dim);
+    bc.normal_axis = static_cast<int>(map.require("normal").choice(axis_names(dim)));
+  }
+  return bc;
+}
+
+}  // namespace
+
+std::vector<LocatedCrack> read_cracks(const Cursor& c, int dim) {
+  std::vector<LocatedCrack> cracks;
+  for (const auto& item : c.list()) {
+    const auto points =
+        dim == 2 ? item.list_of_size(2, "end points [[x0, y0], [x1, y1]]") : item.list();
+    if (dim == 3 && points.size() < 3)
+      item.fail(
+          fmt::format("a 3D crack is a planar polygon of at least 3 corners "
+                      "[[x, y, z], ...], got {}",
+                      points.size()));
+    LocatedCrack crack{{}, item.where()};
+    for (const auto& p : points) crack.crack.points.push_back(p.point(dim));
+    check_crack(item, crack.crack, dim);
+    cracks.push_back(std::move(crack));
+  }
+  return cracks;
+}
+
+std::vector<Region> read_regions(const Cursor& c, int dim) {
+  std::vector<Region> regions;
+  for (const auto& item : c.list()) regions.push_back(Region{read_shape(item, dim), item.where()});
+  return regions;
+}
+
+std::string material_name(const Cursor& c, const Scene& s) {
+  std::vector<std::string> names;
+  for (const auto& m : s.materials) names.push_back(m.name);
+  const std::string name = c.string();
+  if (std::find(names.begin(), names.end(), name) == names.end()) {
+    const auto suggestion = closest_word(name, names);
+    c.fail(fmt::format("material '{}' is not defined in materials{}", name,
+                       suggestion ? fmt::format(", did you mean '{}'?", *suggestion) : ""),
+           join(names));
+  }
+  return name;
+}
+
+std::vector<LocatedMaterialRegion> read_material_regions(const Cursor& c, const Scene& s) {
+  std::vector<LocatedMaterialRegion> regions;
+  for (const auto& item : c.list()) {
+    const MapView map(item, {"region", "material"});
+    LocatedMaterialRegion r;
+    r.region = read_shape(map.require("region"), s.dimension);
+    r.material = material_name(map.require("material"), s);
+    r.where = item.where();
+    regions.push_back(std::move(r));
+  }
+  return regions;
+}
+
+std::vector<LocatedInitialCondition> read_initial_conditions(const Cursor& c, int dim) {
+  std::vector<LocatedInitialCondition> conditions;
+  for (const auto& item : c.list())
+    conditions.push_back({read_initial_condition(item, dim), item.where()});
+  return conditions;
+}
+
+std::vector<LocatedBoundaryCondition> read_boundary_conditions(const Cursor& c, int dim) {
+  std::vector<LocatedBoundaryCondition> conditions;
+  for (const auto& item : c.list())
+    conditions.push_back({read_boundary_condition(item, dim), item.where()});
+  return conditions;
+}
+
+}  // namespace dhpd::scene::detail

@@ -1,0 +1,286 @@
+// Reading a scene file: YAML text -> overrides -> checked Scene structs (schema in
+// cases/README.md).
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <fstream>
+#include <sstream>
+
+#include "engine/errors.hpp"
+#include "tools/scene/detail.hpp"
+
+namespace dhpd::scene {
+
+const std::vector<std::string>& default_fields() {
+  static const std::vector<std::string> fields{"displacement", "velocity", "damage",   "horizon",
+                                               "volume",       "spacing",  "material", "id",
+                                               "level",        "parent_id"};
+  return fields;
+}
+
+const std::vector<std::string>& optional_fields() {
+  static const std::vector<std::string> fields{
+      "strain_energy_density", "force_density",    "bond_count", "dual_count", "no_fail",
+      "micromodulus",          "critical_stretch", "quadrature"};
+  return fields;
+}
+
+namespace {
+
+using detail::Cursor;
+using detail::MapView;
+
+const std::vector<std::string> kTopLevelKeys{"name",
+                                             "dimension",
+                                             "plane",
+                                             "thickness",
+                                             "area",
+                                             "materials",
+                                             "body",
+                                             "material_regions",
+                                             "horizon",
+                                             "model",
+                                             "partial_volume",
+                                             "interfaces",
+                                             "cracks",
+                                             "no_fail",
+                                             "initial_conditions",
+                                             "boundary_conditions",
+                                             "effects",
+                                             "time",
+                                             "output",
+                                             "measure"};
+
+YAML::Node parse_tree(const std::string& text, const std::string& file) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(text);
+  } catch (const YAML::ParserException& e) {
+    fail(Location{file, e.mark.line + 1, ""}, fmt::format("YAML syntax error: {}", e.msg));
+  }
+  if (const auto problem = detail::find_tree_problem(root))
+    fail(Location{file, problem->line, problem->path}, problem->message);
+  if (!root.IsDefined() || root.IsNull()) {
+    fail(Location{file, 0, ""},
+         "the scene is empty; expected a map with name, dimension, materials, body and time");
+  }
+  if (!root.IsMap()) {
+    fail(Location{file, root.Mark().line + 1, ""},
+         fmt::format("the top level of a scene must be a map of keys, got {}",
+                     root.IsSequence() ? "a list" : "a single value"));
+  }
+  return root;
+}
+
+/// Reads a key that exists only in one dimension; refuses it in the others.
+std::optional<Cursor> dimension_key(const MapView& top, std::string_view key, int only_in,
+                                    int dim) {
+  auto value = top.get(key);
+  if (value && dim != only_in) {
+    value->fail(fmt::format("{} applies only to {}D scenes; this scene has dimension {}", key,
+                            only_in, dim));
+  }
+  return value;
+}
+
+void read_section(const MapView& top, Scene& s) {
+  if (const auto plane = dimension_key(top, "plane", 2, s.dimension)) {
+    const std::vector<std::string> words{std::string(to_string(PlaneMode::Stress)),
+                                         std::string(to_string(PlaneMode::Strain))};
+    s.plane = plane->choice(words) == 0 ? PlaneMode::Stress : PlaneMode::Strain;
+  }
+  if (const auto h = dimension_key(top, "thickness", 2, s.dimension))
+    s.thickness = detail::positive_number(*h);
+  if (const auto a = dimension_key(top, "area", 1, s.dimension))
+    s.area = detail::positive_number(*a);
+}
+
+Section section_of(const Scene& s) {
+  return Section{s.dimension, s.plane, s.thickness, s.area};
+}
+
+NamedMaterial read_material(const std::string& name, const Cursor& c, const Scene& s) {
+  const MapView map(c, {"E", "rho", "G0", "nu"});
+  NamedMaterial m{name, {}, c.where()};
+  m.law.E = detail::positive_number(map.require("E"));
+  m.law.rho = detail::positive_number(map.require("rho"));
+  const auto g0 = map.get("G0");
+  if (g0) m.law.G0 = detail::non_negative_number(*g0);
+  if (s.effects.fracture && !g0)
+    c.fail("G0 (fracture energy, J/m^2) is required when effects.fracture is true");
+  if (s.effects.fracture && m.law.G0 == 0.0)
+    g0->fail("G0 must be > 0 when effects.fracture is true, got 0", "> 0");
+  if (const auto nu = map.get("nu")) detail::check_poisson(*nu, nu->number(), section_of(s));
+  return m;
+}
+
+std::vector<NamedMaterial> read_materials(const Cursor& c, const Scene& s) {
+  const MapView map(c, {});
+  if (map.entries().empty()) c.fail("define at least one material: name: {E: ..., rho: ...}");
+  std::vector<NamedMaterial> materials;
+  for (const auto& [name, value] : map.entries())
+    materials.push_back(read_material(name, value, s));
+  return materials;
+}
+
+void read_discretisation(const MapView& top, Scene& s) {
+  if (const auto horizon = top.get("horizon"))
+    if (const auto factor = MapView(*horizon, {"factor"}).get("factor"))
+      s.horizon_factor = detail::horizon_factor(*factor);
+  if (const auto model = top.get("model")) {
+    const std::vector<ForceModel> models{ForceModel::DualHorizon, ForceModel::ConstantHorizon,
+                                         ForceModel::ClassicalVariable};
+    std::vector<std::string> words;
+    for (const auto m : models) words.emplace_back(to_string(m));
+    s.model = models[model->choice(words)];
+  }
+  if (const auto pv = top.get("partial_volume")) {
+    const std::vector<PartialVolume> rules{PartialVolume::None, PartialVolume::Linear,
+                                           PartialVolume::Exact};
+    std::vector<std::string> words;
+    for (const auto r : rules) words.emplace_back(to_string(r));
+    s.partial_volume = rules[pv->choice(words)];
+  }
+  if (const auto interfaces = top.get("interfaces")) {
+    s.interfaces = interfaces->choice({"consistent", "paper"}) == 0;
+    if (*s.interfaces && s.model != ForceModel::DualHorizon)
+      interfaces->fail(fmt::format("interfaces: consistent corrects dual-horizon level jumps; "
+                                   "model {} has none to correct",
+                                   to_string(s.model)),
+                       "paper (or model dual-horizon)");
+    for (std::size_t p = 0; p < s.body.size() && *s.interfaces; ++p)
+      if (s.body[p].kind != PartKind::Lattice)
+        interfaces->fail(fmt::format("interfaces: consistent corrects the level jumps of lattice "
+                                     "parts, but body.{} (line {}) is not a lattice",
+                                     p, s.body[p].where.line),
+                         "paper (or lattice parts only)");
+  }
+}
+
+TimeSpec read_time(const Cursor& c) {
+  const MapView map(c, {"end", "steps", "safety", "dt", "check_dt", "energy_tolerance"});
+  TimeSpec time;
+  time.where = c.where();
+  if (map.has("end") == map.has("steps")) {
+    c.fail(map.has("end") ? "give either end or steps, not both"
+                          : "give the duration as end (s) or as a number of steps",
+           "end, steps");
+  }
+  if (const auto end = map.get("end")) time.end = detail::positive_number(*end);
+  if (const auto steps = map.get("steps")) time.steps = detail::positive_integer(*steps);
+  if (const auto safety = map.get("safety")) time.safety = detail::safety_factor(*safety);
+  if (const auto dt = map.get("dt")) time.dt = detail::positive_number(*dt);
+  if (const auto check = map.get("check_dt")) time.check_dt = check->boolean();
+  if (const auto tol = map.get("energy_tolerance")) {
+    time.energy_tolerance = detail::positive_number(*tol);
+    if (time.energy_tolerance > 1.0)
+      tol->fail(
+          fmt::format("energy_tolerance is a fraction of the energy scale, got {}", tol->text()),
+          "0 < energy_tolerance <= 1 (default 0.01)");
+  }
+  return time;
+}
+
+std::vector<std::string> read_fields(const Cursor& c) {
+  std::vector<std::string> fields;
+  for (const auto& item : c.list()) {
+    const std::string name = item.string();
+    const auto& always = default_fields();
+    if (std::find(always.begin(), always.end(), name) != always.end())
+      item.fail(fmt::format("field '{}' is always written; list only extra fields", name),
+                detail::join(optional_fields()));
+    item.choice(optional_fields(), "field");
+    if (std::find(fields.begin(), fields.end(), name) != fields.end())
+      item.fail(fmt::format("field '{}' is listed twice", name));
+    fields.push_back(name);
+  }
+  return fields;
+}
+
+OutputSpec read_output(const Cursor& c) {
+  const MapView map(
+      c, {"directory", "every", "frames", "fields", "history_every", "checkpoint_every"});
+  OutputSpec out;
+  if (const auto dir = map.get("directory")) {
+    out.directory = dir->string();
+    if (out.directory.empty()) dir->fail("directory must not be empty");
+  }
+  if (map.has("every") && map.has("frames"))
+    c.fail("give either every (steps between frames) or frames (count), not both");
+  if (const auto every = map.get("every")) out.every = detail::positive_integer(*every);
+  if (const auto frames = map.get("frames")) out.frames = detail::positive_integer(*frames);
+  if (!out.every && !out.frames) out.frames = 20;
+  if (const auto fields = map.get("fields")) out.fields = read_fields(*fields);
+  if (const auto every = map.get("history_every"))
+    out.history_every = detail::positive_integer(*every);
+  if (const auto every = map.get("checkpoint_every")) {
+    out.checkpoint_every = every->integer();
+    if (*out.checkpoint_every < 0)
+      every->fail(fmt::format("checkpoint_every must be >= 0, got {}", *out.checkpoint_every),
+                  ">= 0 (steps between checkpoints; 0: no checkpoint at all)");
+  }
+  return out;
+}
+
+void read_regions_and_loads(const MapView& top, Scene& s) {
+  if (const auto cracks = top.get("cracks")) {
+    if (s.dimension == 1) cracks->fail("cracks are not available in 1D scenes");
+    s.cracks = detail::read_cracks(*cracks, s.dimension);
+  }
+  if (const auto c = top.get("material_regions"))
+    s.material_regions = detail::read_material_regions(*c, s);
+  if (const auto c = top.get("no_fail")) s.no_fail = detail::read_regions(*c, s.dimension);
+  if (const auto c = top.get("initial_conditions"))
+    s.initial_conditions = detail::read_initial_conditions(*c, s.dimension);
+  if (const auto c = top.get("boundary_conditions"))
+    s.boundary_conditions = detail::read_boundary_conditions(*c, s.dimension);
+}
+
+Scene read_scene(const Cursor& root, const std::string& file) {
+  const MapView top(root, kTopLevelKeys);
+  Scene s;
+  s.file = file;
+  s.name = detail::scene_name(top.require("name"));
+  s.dimension = detail::dimension(top.require("dimension"));
+  read_section(top, s);
+  const auto effects = top.get("effects");
+  std::optional<MapView> effect_map;
+  if (effects) effect_map.emplace(*effects, std::vector<std::string>{"fracture", "refinement"});
+  if (effect_map)
+    if (const auto fracture = effect_map->get("fracture")) s.effects.fracture = fracture->boolean();
+  s.materials = read_materials(top.require("materials"), s);
+  s.body = detail::read_body(top.require("body"), s);
+  read_discretisation(top, s);
+  if (effect_map)
+    if (const auto refinement = effect_map->get("refinement"))
+      s.refinement = detail::read_refinement(*refinement, s);
+  read_regions_and_loads(top, s);
+  s.time = read_time(top.require("time"));
+  if (const auto output = top.get("output")) {
+    s.output = read_output(*output);
+  } else {
+    s.output.frames = 20;
+  }
+  if (const auto measure = top.get("measure")) s.measure = detail::read_measure(*measure, s);
+  return s;
+}
+
+}  // namespace
+
+Scene parse_scene(const std::string& text, const std::string& file,
+                  const std::vector<Override>& overrides) {
+  YAML::Node root = parse_tree(text, file);
+  detail::Source source{file, {}};
+  source.override_paths = detail::apply_overrides(root, overrides);
+  return read_scene(Cursor::root(source, root), file);
+}
+
+Scene load_scene(const std::string& file, const std::vector<Override>& overrides) {
+  std::ifstream in(file);
+  if (!in) fail(Location{file, 0, ""}, "cannot open the scene file");
+  std::stringstream text;
+  text << in.rdbuf();
+  return parse_scene(text.str(), file, overrides);
+}
+
+}  // namespace dhpd::scene
