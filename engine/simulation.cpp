@@ -1,6 +1,6 @@
 // Set-up and velocity-Verlet stepping of bond-based DH-PD (dhpd.md §3–5, §7).
 #include "engine/simulation.hpp"
-#include "engine/parallel.hpp"
+#include "engine/base/parallel.hpp"
 
 #include <fmt/core.h>
 #include <algorithm>
@@ -8,8 +8,8 @@
 #include <cmath>
 #include <limits>
 
-#include "engine/errors.hpp"
-#include "engine/kernels.hpp"
+#include "engine/base/errors.hpp"
+#include "engine/physics/bond_loops.hpp"
 
 namespace dhpd {
 
@@ -42,7 +42,6 @@ Simulation::Simulation(const SimulationSetup& setup) : setup_(setup), p_(setup.s
   budget_.observe(0.0);
   reach_ = BondRowBuilder::exact_reach(p_, setup_.partial_volume);
   for (std::size_t i = 0; i < p_.size(); ++i) max_horizon_ = std::max(max_horizon_, p_.horizon[i]);
-  if (setup_.effects.refinement) ensure_grid();
 }
 
 void Simulation::init_particles() {

@@ -5,17 +5,15 @@
 #include <optional>
 #include <vector>
 
-#include "engine/bonds.hpp"
-#include "engine/interactions.hpp"
-#include "engine/interface_consistency.hpp"
-#include "engine/loads.hpp"
-#include "engine/material_law.hpp"
-#include "engine/particles.hpp"
-#include "engine/refinement_event.hpp"
-#include "engine/settings.hpp"
-#include "engine/spatial_grid.hpp"
-#include "engine/stability_guard.hpp"
-#include "engine/timers.hpp"
+#include "engine/base/timers.hpp"
+#include "engine/discretization/bonds.hpp"
+#include "engine/discretization/particles.hpp"
+#include "engine/discretization/section.hpp"
+#include "engine/physics/interactions.hpp"
+#include "engine/physics/interface_consistency.hpp"
+#include "engine/physics/loads.hpp"
+#include "engine/physics/material_law.hpp"
+#include "engine/physics/stability_guard.hpp"
 #include "geometry/crack.hpp"
 #include "geometry/lattice.hpp"
 
@@ -23,7 +21,7 @@ namespace dhpd {
 
 struct Effects {
   bool fracture = false;
-  bool refinement = false;  ///< prepare the incremental search structure at start
+  bool refinement = false;  ///< refine/ edits the discretisation during the run
 };
 
 /// Everything a run needs, already validated and in SI units.
@@ -57,28 +55,28 @@ struct SimulationSetup {
   bool interface_correction = true;
 };
 
-/// What one refinement event did (Simulation::apply_refinement).
-struct RefinementEvent {
-  std::int64_t generation = 0;  ///< the generation the event created
-  std::size_t parents = 0, children = 0;
-  std::size_t dropped = 0;          ///< children not created (outside the body)
-  std::size_t rows_rebuilt = 0;     ///< owners whose bond rows were rebuilt
-  std::size_t bonds_rebuilt = 0;    ///< bonds written by the event
-  std::size_t rows_touched = 0;     ///< interaction rows rewritten (owners and their neighbours)
-  std::size_t bonds = 0;            ///< bonds after the event
-  std::int64_t started_broken = 0;  ///< new bonds set broken by the no-healing rule
-  /// New bonds set broken because the mapped state stretched them to s0 (starts_overstretched).
-  std::int64_t started_overstretched = 0;
-  InterfaceCorrection interfaces;  ///< the stiffness factors the event solved for
-  std::size_t reduced_fits = 0;    ///< parents whose mapping gradient had a reduced rank
-  double seconds = 0.0;            ///< the event itself (split and incremental rebuild)
-  bool resorted = false;           ///< the store was re-sorted and compacted after the event
-  double resort_seconds = 0.0;     ///< cost of that re-sort (not in `seconds`)
-  double energy_change = 0.0;      ///< kinetic + strain energy the state mapping added (J)
+/// What an editor of the discretisation (refine/) changed, handed to Simulation::commit_edit.
+/// Slots are those after the edit; the engine derives everything else from them.
+struct DiscretisationChange {
+  /// Slots whose particle the editor wrote (in the order their kinetic energy is summed).
+  std::vector<std::int32_t> new_particles;
+  /// Owners whose bond rows the editor rewrote, ascending (their damage is recomputed).
+  std::vector<std::int32_t> rewritten_rows;
+  /// Every particle whose own or dual bond rows changed, ascending: their interaction rows, level
+  /// interface factors, stable steps and forces are derived again.
+  std::vector<std::int32_t> changed_rows;
+  /// successor[k] takes over the loads (a traction's body force, a prescribed velocity) of the
+  /// particle that had slot predecessor[k] before the edit; a slot that is its own successor
+  /// keeps its entries.
+  std::vector<std::int32_t> successor, predecessor;
+  std::size_t old_size = 0;  ///< particles before the edit (slots at or above it are appended)
+};
+
+/// What commit_edit derived.
+struct EditOutcome {
+  InterfaceCorrection interfaces;  ///< the level-interface factors solved for the changed rows
+  double energy_change = 0.0;      ///< kinetic + strain energy the edit added (J)
   double shadow_change = 0.0;      ///< the same for the shadow energy (new dt and forces too)
-  /// Per child: its slot and its parent's slot before the event (slots as after the event,
-  /// before any re-sort). The test of incremental = from scratch uses them.
-  std::vector<std::int32_t> child_slot, parent_slot;
 };
 
 struct Energies {
@@ -109,21 +107,38 @@ class Simulation {
   /// Recomputes p.damage (only meaningful with fracture on).
   void update_damage();
 
-  /// Splits the given particles (indices of the current generation) into up to 2^dim children each
-  /// (plan_split; u and v by `mapping`) and rebuilds incrementally: only the children and the
-  /// owners of bonds on the parents or within reach of a child get new bond rows; the dual rows
-  /// and interaction rows of their neighbours are patched; the no-healing rule sets the new bonds;
-  /// loads, no_fail, stable step, forces and damage are updated for the touched particles. A
-  /// parent's first child takes its slot, the other children are appended, so every other index
-  /// stays valid, unless the event ends with a re-sort (RefinementEvent::resorted). Refused for
-  /// constant-horizon (one δ for the whole body).
-  RefinementEvent apply_refinement(const std::vector<std::int32_t>& parents,
-                                   StateMapping mapping = StateMapping::Linear);
-  /// Re-sorts the store in Morton order and compacts every row array (bonds keep their states).
-  /// Returns the seconds it took.
-  double resort();
-  /// Number of refinement events applied so far (0 for the scene's particles).
+  /// The edit seam (refine/ uses it; docs/design.md): begin_edit records the energy of the rows
+  /// an edit may change (strain energy of `energy_rows`, kinetic energy of `moving`); the editor
+  /// then rewrites the store, the bond rows and the dual rows it names, calls particles_written
+  /// for particles it wrote (bond constants, row arenas), and commit_edit(change) derives the
+  /// interaction rows, level-interface factors, stable steps and time step, loads, forces, damage
+  /// and the energy ledger of the changed rows, and counts one more generation.
+  struct Discretisation {
+    ParticleStore& particles;
+    BondList& bonds;
+    DualList& dual;
+  };
+  Discretisation begin_edit(std::vector<std::int32_t> energy_rows,
+                            const std::vector<std::int32_t>& moving);
+  void particles_written(const std::vector<std::int32_t>& slots);
+  EditOutcome commit_edit(const DiscretisationChange& change, std::int64_t broken_bonds_change);
+  /// The first of `n` new particle ids (ids are never reused).
+  std::int32_t take_ids(std::size_t n);
+  /// Renumbers the store in Morton order and compacts every row array (bonds keep their states);
+  /// the layout version changes. Returns the seconds it took.
+  double compact();
+  /// Changes whenever slots are renumbered (compact): anything indexed by slot must be rebuilt.
+  std::int64_t layout_version() const { return layout_version_; }
+  /// Particles appended by edits since the last compaction (or the start).
+  std::size_t appended_since_compaction() const { return appended_since_compaction_; }
+  /// Number of edits committed so far (0 for the scene's particles).
   std::int64_t generation() const { return generation_; }
+  /// Upper bounds used by bond searches: of every horizon, and of the radius added to it.
+  double max_horizon() const { return max_horizon_; }
+  double bond_reach() const { return reach_; }
+  /// Whether level-interface factors are solved (dual-horizon with the correction on).
+  bool corrects_interfaces() const;
+  const ResolvedLoads& loads() const { return loads_; }
 
   const ParticleStore& particles() const { return p_; }
   ParticleStore& particles() { return p_; }
@@ -153,20 +168,11 @@ class Simulation {
   void update_bond_constants();
   void update_bond_constants(const std::vector<std::int32_t>& slots);
   void compute_forces();
-  // Refinement (simulation_refine.cpp, simulation_rows.cpp).
-  struct EventScratch;
-  void ensure_grid();
-  std::vector<std::int32_t> old_neighbourhood(const SplitPlan& plan) const;
-  std::vector<std::int32_t> owners_to_rebuild(const SplitPlan& plan) const;
-  void rebuild_rows(EventScratch& ev, RefinementEvent& out);
-  void finish_event(EventScratch& ev, RefinementEvent& out);
-  bool corrects_interfaces() const;
   void enforce_prescribed_velocity();
   double boundary_power() const;
   /// Throws InstabilityError; a NaN `energy` reports a non-finite state.
   [[noreturn]] void stop_unstable(const char* measured, double energy, double allowed,
                                   std::int64_t step, double time) const;
-  std::vector<std::int32_t> event_energy_rows(const SplitPlan& plan) const;
   /// Energies::verlet_correction of the current state (a pass over particles, not bonds).
   double verlet_correction() const;
 
@@ -178,12 +184,17 @@ class Simulation {
   ResolvedLoads loads_;
   std::vector<double> C_, s0_;
   std::vector<double> particle_dt_;  ///< stable step of each particle's row (dhpd.md §5)
-  std::optional<SpatialGrid> grid_;  ///< incremental search (built at the first event)
   double reach_ = 0.0;               ///< upper bound on radii (exact) for bond searches
   double max_horizon_ = 0.0;         ///< upper bound on every horizon
-  std::size_t appended_since_sort_ = 0;
-  std::vector<std::int32_t> parent_slot_, child_of_slot_;  ///< event scratch, −1 outside events
-  std::vector<std::uint8_t> touched_;                      ///< event scratch, 0 outside events
+  std::size_t appended_since_compaction_ = 0;
+  std::int64_t layout_version_ = 0;
+  // The open edit (begin_edit .. commit_edit); not part of the state between edits.
+  struct OpenEdit {
+    std::vector<std::int32_t> energy_rows;
+    double energy_before = 0.0, correction_before = 0.0;
+  };
+  std::optional<OpenEdit> edit_;
+  std::vector<std::uint8_t> touched_;  ///< commit_edit scratch, all 0 between edits
   PhaseTimers timers_;
   double time_ = 0.0, dt_ = 0.0, critical_dt_ = 0.0;
   double external_work_ = 0.0, last_power_ = 0.0;

@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "engine/neighbor_search.hpp"
+#include "engine/discretization/neighbor_search.hpp"
 
 namespace dhpd::refine {
 
@@ -68,7 +68,7 @@ std::vector<std::int32_t> graded_parents(const Simulation& sim, std::vector<std:
   return out;
 }
 
-std::vector<RefinementEvent> Refiner::refine_zones(Simulation& sim) const {
+std::vector<RefinementEvent> Refiner::refine_zones(Simulation& sim) {
   std::vector<RefinementEvent> events;
   for (int pass = 0; pass < s_.max_level && !s_.zones.empty(); ++pass) {
     const auto& p = sim.particles();
@@ -81,12 +81,12 @@ std::vector<RefinementEvent> Refiner::refine_zones(Simulation& sim) const {
     }
     const auto parents = graded_parents(sim, std::move(marked), s_.max_level);
     if (parents.empty()) break;
-    events.push_back(sim.apply_refinement(parents, s_.mapping));
+    events.push_back(split(sim, parents, s_.mapping, &search_));
   }
   return events;
 }
 
-RefinementEvent Refiner::check(Simulation& sim) const {
+RefinementEvent Refiner::check(Simulation& sim) {
   auto marked = triggered(sim, s_.trigger);
   add_buffer(sim.particles(), s_.buffer, marked);
   keep_within(sim.particles(), s_.within, marked);
@@ -96,7 +96,7 @@ RefinementEvent Refiner::check(Simulation& sim) const {
     none.generation = sim.generation();
     return none;
   }
-  return sim.apply_refinement(parents, s_.mapping);
+  return split(sim, parents, s_.mapping, &search_);
 }
 
 }  // namespace dhpd::refine

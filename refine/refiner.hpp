@@ -6,6 +6,7 @@
 
 #include "engine/simulation.hpp"
 #include "geometry/shapes.hpp"
+#include "refine/event.hpp"
 #include "refine/triggers.hpp"
 
 namespace dhpd::refine {
@@ -52,16 +53,19 @@ class Refiner {
   explicit Refiner(Settings s) : s_(std::move(s)) {}
   const Settings& settings() const { return s_; }
 
+  /// Builds the search the events keep up to date (else the first event builds it).
+  void prepare(const Simulation& sim) { search_.grid(sim); }
   /// Splits the zones' particles, level by level up to max_level; one event per level.
-  std::vector<RefinementEvent> refine_zones(Simulation& sim) const;
+  std::vector<RefinementEvent> refine_zones(Simulation& sim);
   /// Whether the refiner checks after `step` (steps counted from 1).
   bool due(std::int64_t step) const { return s_.trigger.any() && step % s_.check_every == 0; }
   /// Triggers, buffer and grading; applies the event when there are parents (parents == 0 in
   /// the returned event otherwise).
-  RefinementEvent check(Simulation& sim) const;
+  RefinementEvent check(Simulation& sim);
 
  private:
   Settings s_;
+  EventSearch search_;  ///< the incremental grid kept between events
 };
 
 }  // namespace dhpd::refine

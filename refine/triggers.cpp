@@ -5,8 +5,8 @@
 #include <cmath>
 #include <memory>
 
-#include "engine/kernels.hpp"
-#include "engine/neighbor_search.hpp"
+#include "engine/discretization/neighbor_search.hpp"
+#include "engine/physics/bond_loops.hpp"
 
 namespace dhpd::refine {
 

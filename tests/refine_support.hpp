@@ -1,6 +1,7 @@
 // Small builders shared by the refinement tests (test-only code).
 #pragma once
 #include <cstdint>
+#include <unordered_map>
 #include <vector>
 
 #include "engine/simulation.hpp"
@@ -52,6 +53,26 @@ inline SimulationSetup lifted_block_3d() {
   lift.displacement = geometry::Vec3{0, 2e-5, 0};
   s.initial_conditions = {lift};
   return s;
+}
+
+/// The children of an event and their parents' slots before it, found by ids: a child is a
+/// particle of `after` whose parent_id names a particle of `before` (the store just before the
+/// event). Children in ascending slot order.
+struct Family {
+  std::vector<std::int32_t> child_slot, parent_slot;
+};
+inline Family family_of_event(const ParticleStore& before, const ParticleStore& after) {
+  std::unordered_map<std::int32_t, std::int32_t> slot_of_id;
+  for (std::size_t i = 0; i < before.size(); ++i)
+    slot_of_id[before.id[i]] = static_cast<std::int32_t>(i);
+  Family f;
+  for (std::size_t i = 0; i < after.size(); ++i) {
+    const auto it = slot_of_id.find(after.parent_id[i]);
+    if (after.parent_id[i] < 0 || it == slot_of_id.end()) continue;
+    f.child_slot.push_back(static_cast<std::int32_t>(i));
+    f.parent_slot.push_back(it->second);
+  }
+  return f;
 }
 
 /// Every particle index of the current generation.

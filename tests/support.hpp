@@ -4,11 +4,11 @@
 #include <random>
 #include <vector>
 
-#include "engine/bonds.hpp"
-#include "engine/interactions.hpp"
-#include "engine/kernels.hpp"
-#include "engine/material_law.hpp"
-#include "engine/particles.hpp"
+#include "engine/discretization/bonds.hpp"
+#include "engine/discretization/particles.hpp"
+#include "engine/physics/bond_loops.hpp"
+#include "engine/physics/interactions.hpp"
+#include "engine/physics/material_law.hpp"
 #include "engine/simulation.hpp"
 #include "geometry/lattice.hpp"
 

@@ -8,8 +8,8 @@
 #include <cstring>
 #include <filesystem>
 
-#include "engine/checkpoint.hpp"
-#include "engine/errors.hpp"
+#include "engine/base/errors.hpp"
+#include "engine/checkpoint/checkpoint.hpp"
 #include "refine/refiner.hpp"
 #include "tests/support.hpp"
 

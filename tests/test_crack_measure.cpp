@@ -6,7 +6,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "engine/errors.hpp"
+#include "engine/base/errors.hpp"
 #include "tests/scene_samples.hpp"
 #include "tests/support.hpp"
 #include "tools/measure/crack_measure.hpp"

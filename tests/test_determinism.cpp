@@ -2,7 +2,7 @@
 #include <gtest/gtest.h>
 #include <omp.h>
 
-#include "engine/parallel.hpp"
+#include "engine/base/parallel.hpp"
 #include "refine/refiner.hpp"
 #include "tests/support.hpp"
 
@@ -46,7 +46,7 @@ Result run_with(int threads, bool adaptive = false) {
   refine::Settings set;
   set.trigger.damage = 0.3;
   set.max_level = 1;
-  const refine::Refiner refiner(set);
+  refine::Refiner refiner(set);
   std::int64_t events = 0;
   const std::int64_t steps = adaptive ? 100 : 200;
   for (std::int64_t k = 1; k <= steps; ++k) {

@@ -6,7 +6,7 @@
 #include <cstdlib>
 #include <new>
 
-#include "engine/errors.hpp"
+#include "engine/base/errors.hpp"
 #include "tests/support.hpp"
 
 namespace {

@@ -10,9 +10,10 @@
 #include <string>
 
 #include "cli_support.hpp"
-#include "engine/errors.hpp"
+#include "engine/base/errors.hpp"
 #include "engine/simulation.hpp"
 #include "geometry/lattice.hpp"
+#include "refine/event.hpp"
 #include "tools/output/vtk_writer.hpp"
 
 namespace dhpd {
@@ -126,7 +127,7 @@ TEST(Guard, DtAboveTheStableStepIsCaughtWithinAFewSteps) {
 }
 
 TEST(Guard, RefinementMappingEntersTheBalanceExactly) {
-  for (const auto mapping : {StateMapping::Copy, StateMapping::Linear}) {
+  for (const auto mapping : {refine::StateMapping::Copy, refine::StateMapping::Linear}) {
     auto s = pulsed_plate(0.8);
     s.effects.refinement = true;
     Simulation sim(s);
@@ -135,7 +136,7 @@ TEST(Guard, RefinementMappingEntersTheBalanceExactly) {
     std::vector<std::int32_t> parents;
     for (std::int32_t i = 0; i < static_cast<std::int32_t>(sim.particles().size()); i += 7)
       parents.push_back(i);
-    const auto ev = sim.apply_refinement(parents, mapping);
+    const auto ev = refine::split(sim, parents, mapping);
     const auto after = sim.energies();
     const double change = after.kinetic + after.strain - before.kinetic - before.strain;
     EXPECT_GT(std::abs(change), 1e-6 * before.kinetic);  // the mapping does change the energy

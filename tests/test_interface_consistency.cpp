@@ -7,8 +7,9 @@
 #include <cmath>
 #include <cstdio>
 
-#include "engine/kernels.hpp"
+#include "engine/physics/bond_loops.hpp"
 #include "engine/simulation.hpp"
+#include "refine/event.hpp"
 #include "tests/refine_support.hpp"
 #include "tests/support.hpp"
 
@@ -79,7 +80,7 @@ TEST(InterfaceConsistency, AHomogeneousStrainPutsNoForceOnARefinedZonesInterface
       s.interface_correction = correction;
       Simulation sim(s);
       const auto ev =
-          sim.apply_refinement(ball(sim, {size / 2, size / 2, size / 2}, dim == 2 ? 4e-3 : 2.6e-3));
+          refine::split(sim, ball(sim, {size / 2, size / 2, size / 2}, dim == 2 ? 4e-3 : 2.6e-3));
       if (correction) solved = ev.interfaces;
       const auto f = forces_under(sim, kShear, 6e-3, size);
       force[correction] = f.inside, edge = f.edge;
@@ -152,7 +153,7 @@ TEST(InterfaceConsistency, EventsKeepTheInterfacesConsistentAndMomentumExact) {
     const Vec3 centres[3] = {{0.025, 0.01, 0}, {0.027, 0.01, 0}, {0.039, 0.0105, 0}};
     const double radii[3] = {3e-3, 5e-3, 2.5e-3};
     for (int e = 0; e < 3; ++e) {
-      const auto ev = sim.apply_refinement(ball(sim, centres[e], radii[e]));
+      const auto ev = refine::split(sim, ball(sim, centres[e], radii[e]));
       if (correction)
         std::printf(
             "event %d: %zu parents, %zu constrained, %zu factors in [%.2f, %.2f] (%zu "

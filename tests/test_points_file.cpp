@@ -10,7 +10,7 @@
 #include <random>
 #include <sstream>
 
-#include "engine/errors.hpp"
+#include "engine/base/errors.hpp"
 #include "tools/scene/build.hpp"
 #include "tools/scene/points_file.hpp"
 #include "tools/scene/scene.hpp"

@@ -5,7 +5,7 @@
 
 #include <algorithm>
 
-#include "engine/errors.hpp"
+#include "engine/base/errors.hpp"
 #include "geometry/random_disks.hpp"
 #include "tools/scene/scene.hpp"
 

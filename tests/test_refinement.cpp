@@ -11,9 +11,9 @@
 #include <set>
 #include <string>
 
-#include "engine/no_healing.hpp"
-#include "engine/refinement_event.hpp"
+#include "refine/no_healing.hpp"
 #include "refine/refiner.hpp"
+#include "refine/split_plan.hpp"
 #include "tests/refine_support.hpp"
 #include "tests/support.hpp"
 
@@ -54,7 +54,8 @@ double spread_energy(const ParticleStore& p, const std::map<std::int32_t, geomet
 TEST(Refinement, SplitConservesMassVolumeMomentumAndKineticEnergy) {
   // copy conserves kinetic energy; linear and quadratic add exactly the spread of the children's
   // velocities about their parent's (what the resolved gradient implies) and report it.
-  for (const auto mapping : {StateMapping::Copy, StateMapping::Linear, StateMapping::Quadratic}) {
+  for (const auto mapping : {refine::StateMapping::Copy, refine::StateMapping::Linear,
+                             refine::StateMapping::Quadratic}) {
     auto s = plate(1e-3, 0.03, 0.02);
     s.effects.fracture = true;
     InitialCondition ic;
@@ -75,7 +76,7 @@ TEST(Refinement, SplitConservesMassVolumeMomentumAndKineticEnergy) {
         v_of[sim.particles().id[i]] = point_of(sim.particles().velocity, i);
       }
     const auto before = totals(sim);
-    const auto ev = sim.apply_refinement(parents, mapping);
+    const auto ev = refine::split(sim, parents, mapping);
     const auto after = totals(sim);
     EXPECT_EQ(ev.children, 4 * parents.size());
     EXPECT_EQ(sim.generation(), 1);
@@ -88,15 +89,16 @@ TEST(Refinement, SplitConservesMassVolumeMomentumAndKineticEnergy) {
     std::printf(
         "split (%s): relative change mass %.2e volume %.2e kinetic %.2e (spread %.2e) strain "
         "%.2e, momentum %.2e %.2e, reported mapping energy %.3e J of %.3e J\n",
-        mapping_name(mapping), after.mass / before.mass - 1, after.volume / before.volume - 1,
-        after.e.kinetic / before.e.kinetic - 1, spread / before.e.kinetic,
-        after.e.strain / before.e.strain - 1, (after.e.momentum[0] - before.e.momentum[0]) / pscale,
+        refine::mapping_name(mapping), after.mass / before.mass - 1,
+        after.volume / before.volume - 1, after.e.kinetic / before.e.kinetic - 1,
+        spread / before.e.kinetic, after.e.strain / before.e.strain - 1,
+        (after.e.momentum[0] - before.e.momentum[0]) / pscale,
         (after.e.momentum[1] - before.e.momentum[1]) / pscale, ev.energy_change, mapping_change);
     EXPECT_NEAR(after.mass, before.mass, 1e-12 * before.mass);
     EXPECT_NEAR(after.volume, before.volume, 1e-12 * before.volume);
     EXPECT_NEAR(after.e.kinetic - before.e.kinetic, spread, 1e-12 * before.e.kinetic);
-    if (mapping == StateMapping::Copy) EXPECT_EQ(spread, 0.0);
-    if (mapping != StateMapping::Copy) EXPECT_GT(spread, 1e-5 * before.e.kinetic);
+    if (mapping == refine::StateMapping::Copy) EXPECT_EQ(spread, 0.0);
+    if (mapping != refine::StateMapping::Copy) EXPECT_GT(spread, 1e-5 * before.e.kinetic);
     EXPECT_NEAR(ev.energy_change, mapping_change, 1e-9 * (before.e.kinetic + before.e.strain));
     for (int a = 0; a < 2; ++a)
       EXPECT_NEAR(after.e.momentum[a], before.e.momentum[a], 1e-12 * pscale);
@@ -154,7 +156,7 @@ TEST(Refinement, RefiningEverythingAtStartEqualsStartingFine) {
     auto coarse_setup = loaded_plate(1e-3, pv);
     coarse_setup.fixed_dt = dt;
     Simulation fine(fine_setup), coarse(coarse_setup);
-    coarse.apply_refinement(all_particles(coarse));
+    refine::split(coarse, all_particles(coarse));
     ASSERT_EQ(coarse.particles().size(), fine.particles().size());
     EXPECT_EQ(coarse.bonds().size(), fine.bonds().size());
     EXPECT_EQ(coarse.dt(), dt);
@@ -221,7 +223,7 @@ TEST(Refinement, SeparatedPlateStaysSeparatedAfterRefiningAroundTheCrack) {
   std::vector<std::int32_t> parents;
   for (const auto i : all_particles(sim))
     if (std::abs(sim.particles().reference_position[1][i] - 0.01) < 3e-3) parents.push_back(i);
-  const auto ev = sim.apply_refinement(parents);
+  const auto ev = refine::split(sim, parents);
   std::printf("separated plate: %zu parents, %lld new bonds start broken\n", ev.parents,
               static_cast<long long>(ev.started_broken));
   EXPECT_GT(ev.started_broken, 0);
@@ -246,7 +248,7 @@ TEST(Refinement, NoIntactBondBetweenPreviouslyBrokenPairsAfterARun) {
   std::vector<std::uint8_t> marked(old_p.size(), 0);
   for (std::size_t i = 0; i < marked.size(); ++i) marked[i] = sim.particles().damage[i] > 0.0;
   refine::add_buffer(sim.particles(), 1.0, marked);
-  sim.apply_refinement(refine::graded_parents(sim, marked, 1));
+  refine::split(sim, refine::graded_parents(sim, marked, 1));
   // The previous identity of a particle: its own id when kept, its parent's id when a child.
   const auto& p = sim.particles();
   auto identity = [&](std::size_t i) { return p.level[i] > 0 ? p.parent_id[i] : p.id[i]; };
@@ -296,7 +298,7 @@ TEST(Refinement, EnergyAndStretchTriggersAtUniformCriticalStretch) {
 TEST(Refinement, LinearMappingPutsChildrenOnAUniformStrainField) {
   // u = ε (X − o): the linear mapping reproduces it at every child (the copy does not), and both
   // conserve momentum and kinetic energy because velocities are copied.
-  for (const auto mapping : {StateMapping::Copy, StateMapping::Linear}) {
+  for (const auto mapping : {refine::StateMapping::Copy, refine::StateMapping::Linear}) {
     auto s = plate(1e-3, 0.02, 0.01);
     InitialCondition ic;
     ic.region = Box{{0, 0, 0}, {0.02, 0.01, 0}};
@@ -306,7 +308,7 @@ TEST(Refinement, LinearMappingPutsChildrenOnAUniformStrainField) {
     s.initial_conditions = {ic};
     Simulation sim(s);
     const auto before = sim.energies();
-    const auto ev = sim.apply_refinement(all_particles(sim), mapping);
+    const auto ev = refine::split(sim, all_particles(sim), mapping);
     const auto after = sim.energies();
     EXPECT_NEAR(after.kinetic, before.kinetic, 1e-12 * before.kinetic);
     double worst = 0.0;
@@ -316,7 +318,7 @@ TEST(Refinement, LinearMappingPutsChildrenOnAUniformStrainField) {
         const double exact = (*ic.strain)[a] * (p.reference_position[a][k] - ic.origin[a]);
         worst = std::max(worst, std::abs(p.displacement[a][k] - exact));
       }
-    if (mapping == StateMapping::Linear) {
+    if (mapping == refine::StateMapping::Linear) {
       EXPECT_LT(worst, 1e-15);
     } else {
       EXPECT_NEAR(worst, 0.25e-3 * 1e-3, 1e-12);  // a quarter cell times the largest strain
@@ -377,10 +379,11 @@ TEST(Refinement, TriggersSplitOnlyWithinTheGivenRegions) {
 
 TEST(Refinement, NoHealingRuleOnSegments) {
   using geometry::Vec3;
-  EXPECT_TRUE(segments_cross_properly({0, 0, 0}, {1, 1, 0}, {0, 1, 0}, {1, 0, 0}));
-  EXPECT_FALSE(segments_cross_properly({0, 0, 0}, {1, 0, 0}, {1, 0, 0}, {1, 1, 0}));  // touch
-  EXPECT_FALSE(segments_cross_properly({0, 0, 0}, {1, 0, 0}, {0.5, 0, 0}, {2, 0, 0}));
-  EXPECT_FALSE(segments_cross_properly({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}));
+  EXPECT_TRUE(refine::segments_cross_properly({0, 0, 0}, {1, 1, 0}, {0, 1, 0}, {1, 0, 0}));
+  EXPECT_FALSE(
+      refine::segments_cross_properly({0, 0, 0}, {1, 0, 0}, {1, 0, 0}, {1, 1, 0}));  // touch
+  EXPECT_FALSE(refine::segments_cross_properly({0, 0, 0}, {1, 0, 0}, {0.5, 0, 0}, {2, 0, 0}));
+  EXPECT_FALSE(refine::segments_cross_properly({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}));
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include <numeric>
 
 #include "engine/simulation.hpp"
+#include "refine/event.hpp"
 #include "tests/refine_support.hpp"
 
 namespace dhpd {
@@ -38,7 +39,7 @@ TEST(RefinementChildren, ChildrenOutsideTheBodyAreNotCreated) {
     if (know_body) s.body = disc;
     Simulation sim(s);
     const double volume = total_volume(sim);
-    const auto ev = sim.apply_refinement(all_particles(sim));
+    const auto ev = refine::split(sim, all_particles(sim));
     std::size_t outside = 0;
     for (std::size_t i = 0; i < sim.particles().size(); ++i)
       outside += disc.contains(ref(sim.particles(), i), 2) ? 0 : 1;
@@ -78,8 +79,10 @@ TEST(RefinementChildren, ChildrenAcrossAPreCrackTakeTheFieldOfTheirSide) {
     }
   const double volume = total_volume(sim);
   const auto before = sim.energies();
-  const auto ev = sim.apply_refinement(all_particles(sim));
+  const auto store = sim.particles();
+  const auto ev = refine::split(sim, all_particles(sim));
   const auto after = sim.energies();
+  const auto fam = test::family_of_event(store, sim.particles());
   EXPECT_EQ(ev.dropped, 0u);
   EXPECT_EQ(ev.children, 4 * ev.parents);
   EXPECT_NEAR(total_volume(sim), volume, 1e-13 * volume);
@@ -92,10 +95,10 @@ TEST(RefinementChildren, ChildrenAcrossAPreCrackTakeTheFieldOfTheirSide) {
   const auto& q = sim.particles();
   std::map<std::int32_t, std::array<double, 4>> family;  // parent: Σ v, Σ v(X) per axis
   std::map<std::int32_t, int> size;
-  for (std::size_t c = 0; c < ev.child_slot.size(); ++c) {
-    const auto k = static_cast<std::size_t>(ev.child_slot[c]);
-    auto& f = family[ev.parent_slot[c]];
-    ++size[ev.parent_slot[c]];
+  for (std::size_t c = 0; c < fam.child_slot.size(); ++c) {
+    const auto k = static_cast<std::size_t>(fam.child_slot[c]);
+    auto& f = family[fam.parent_slot[c]];
+    ++size[fam.parent_slot[c]];
     for (int a = 0; a < 2; ++a) {
       f[a] += q.velocity[a][k];
       f[2 + a] += 1e4 * field(ref(q, k), a) + V[a];
@@ -103,15 +106,15 @@ TEST(RefinementChildren, ChildrenAcrossAPreCrackTakeTheFieldOfTheirSide) {
   }
   std::size_t across = 0;
   double worst_u = 0.0, worst_v = 0.0;
-  for (std::size_t c = 0; c < ev.child_slot.size(); ++c) {
-    const auto k = static_cast<std::size_t>(ev.child_slot[c]);
+  for (std::size_t c = 0; c < fam.child_slot.size(); ++c) {
+    const auto k = static_cast<std::size_t>(fam.child_slot[c]);
     const auto x = ref(q, k);
     const geometry::Vec3 centre{(std::floor(x[0] / 1e-3) + 0.5) * 1e-3,
                                 (std::floor(x[1] / 1e-3) + 0.5) * 1e-3, 0};
     if (!geometry::crosses(crack, centre, x, 2) || x[0] > 0.012 - q.horizon[k] * 2 - 1e-3) continue;
     ++across;
-    const auto& f = family[ev.parent_slot[c]];
-    const double n = size[ev.parent_slot[c]];
+    const auto& f = family[fam.parent_slot[c]];
+    const double n = size[fam.parent_slot[c]];
     for (int a = 0; a < 2; ++a) {
       worst_u = std::max(worst_u, std::abs(q.displacement[a][k] - field(x, a)));
       const double shape = q.velocity[a][k] - f[a] / n;
@@ -136,7 +139,7 @@ TEST(RefinementChildren, RefiningTheWholeBodyAtTheStartGivesTheUniformFineRun) {
   fine.effects.refinement = false;
   fine.points = geometry::fill_lattice({{Box{{0, 0, 0}, {0.05, 0.02, 0}}, 0.5e-3, 0}}, 2);
   Simulation a(coarse), b(fine);
-  a.apply_refinement(all_particles(a));
+  refine::split(a, all_particles(a));
   ASSERT_EQ(a.particles().size(), b.particles().size());
   EXPECT_EQ(a.bonds().size(), b.bonds().size());
   EXPECT_NEAR(a.dt(), b.dt(), 1e-12 * b.dt());
@@ -169,7 +172,7 @@ TEST(RefinementChildren, LinearMappingInterpolatesVelocityAndConservesMomentum) 
   // v = G X (a uniform velocity gradient): the linear mapping puts interior children on it; the
   // centroid offset keeps momentum exact even where a boundary child is dropped.
   const double G[2][2] = {{30.0, -12.0}, {8.0, 20.0}};
-  for (const auto mapping : {StateMapping::Copy, StateMapping::Linear}) {
+  for (const auto mapping : {refine::StateMapping::Copy, refine::StateMapping::Linear}) {
     auto s = test::plate(1e-3, 0.02, 0.01);
     Simulation sim(s);
     auto& p = sim.particles();
@@ -183,7 +186,7 @@ TEST(RefinementChildren, LinearMappingInterpolatesVelocityAndConservesMomentum) 
     for (const auto i : all_particles(sim))
       if (std::abs(p.reference_position[0][i] - 0.01) < 4e-3) parents.push_back(i);
     const auto before = sim.energies();
-    const auto ev = sim.apply_refinement(parents, mapping);
+    const auto ev = refine::split(sim, parents, mapping);
     const auto after = sim.energies();
     double worst = 0.0;
     const auto& q = sim.particles();
@@ -197,10 +200,10 @@ TEST(RefinementChildren, LinearMappingInterpolatesVelocityAndConservesMomentum) 
     }
     const double scale = std::hypot(before.momentum[0], before.momentum[1]);
     std::printf("velocity mapping %s: %zu children, worst |v - G X| %.2e m/s, kinetic %+.2e\n",
-                mapping == StateMapping::Linear ? "linear" : "copy", ev.children, worst,
+                mapping == refine::StateMapping::Linear ? "linear" : "copy", ev.children, worst,
                 after.kinetic / before.kinetic - 1);
     for (int a = 0; a < 2; ++a) EXPECT_NEAR(after.momentum[a], before.momentum[a], 1e-12 * scale);
-    if (mapping == StateMapping::Linear) {
+    if (mapping == refine::StateMapping::Linear) {
       EXPECT_LT(worst, 1e-12);
     } else {
       EXPECT_NEAR(worst, 0.25e-3 * 42.0, 1e-9);  // a quarter cell times the largest |G| row sum
@@ -223,8 +226,9 @@ TEST(RefinementChildren, DamageChangesThroughAnEventOnlyAsDocumented) {
   std::vector<std::int32_t> parents;
   for (const auto i : all_particles(sim))
     if (before.damage[i] > 0.0) parents.push_back(i);
-  const auto ev = sim.apply_refinement(parents);
+  const auto ev = refine::split(sim, parents);
   ASSERT_FALSE(ev.resorted);
+  const auto fam = test::family_of_event(before, sim.particles());
   const auto& p = sim.particles();
   double worst_unsplit = 0.0, worst_child = 0.0;
   std::size_t lower_children = 0;
@@ -233,12 +237,12 @@ TEST(RefinementChildren, DamageChangesThroughAnEventOnlyAsDocumented) {
   // Per parent: its most damaged child against the parent (the crack side of the cell).
   std::vector<double> most(ev.parents, 0.0), parent_damage(ev.parents, 0.0);
   std::vector<std::int32_t> parent_order;
-  for (std::size_t c = 0; c < ev.child_slot.size(); ++c) {
-    const double parent = before.damage[ev.parent_slot[c]], child = p.damage[ev.child_slot[c]];
+  for (std::size_t c = 0; c < fam.child_slot.size(); ++c) {
+    const double parent = before.damage[fam.parent_slot[c]], child = p.damage[fam.child_slot[c]];
     worst_child = std::max(worst_child, parent - child);
     lower_children += child < parent ? 1 : 0;
     const auto k = static_cast<std::size_t>(
-        std::find(parents.begin(), parents.end(), ev.parent_slot[c]) - parents.begin());
+        std::find(parents.begin(), parents.end(), fam.parent_slot[c]) - parents.begin());
     most[k] = std::max(most[k], child);
     parent_damage[k] = parent;
   }
@@ -278,7 +282,7 @@ TEST(RefinementChildren, ThreeDimensionalCrackStaysOpenAroundRefinedParticles) {
     const double y = sim.particles().reference_position[1][i];
     if ((y > 0.0025 && y < 0.004) || (y > 0.004 && y < 0.0055 && i % 2 == 0)) parents.push_back(i);
   }
-  const auto ev = sim.apply_refinement(parents);
+  const auto ev = refine::split(sim, parents);
   std::printf("3D crack: %zu parents, %lld new bonds start broken, %zu intact across\n", ev.parents,
               static_cast<long long>(ev.started_broken), intact_across());
   EXPECT_GT(ev.started_broken, 0);

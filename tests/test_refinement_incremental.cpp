@@ -9,8 +9,9 @@
 #include <tuple>
 #include <vector>
 
-#include "engine/no_healing.hpp"
 #include "engine/simulation.hpp"
+#include "refine/event.hpp"
+#include "refine/no_healing.hpp"
 #include "tests/refine_support.hpp"
 #include "tests/support.hpp"
 
@@ -59,22 +60,24 @@ std::vector<std::vector<EntryKey>> interactions_by_id(const InteractionList& il,
 
 /// Checks that the simulation's rows equal a from-scratch build of its particles, with the
 /// intact flags of `apply_no_healing` against the previous generation. Returns bonds compared.
-std::size_t expect_equals_from_scratch(const Simulation& sim, const RefinementEvent& ev,
+std::size_t expect_equals_from_scratch(const Simulation& sim, const refine::RefinementEvent& ev,
                                        const BondList& old_b, const ParticleStore& old_p) {
   const auto& p = sim.particles();
   std::vector<std::int32_t> previous(p.size());
   std::vector<std::uint8_t> born(p.size(), 0);
   for (std::size_t i = 0; i < p.size(); ++i) previous[i] = static_cast<std::int32_t>(i);
-  for (std::size_t c = 0; c < ev.child_slot.size(); ++c) {
-    previous[ev.child_slot[c]] = ev.parent_slot[c];
-    born[ev.child_slot[c]] = 1;
+  const auto fam = test::family_of_event(old_p, p);
+  for (std::size_t c = 0; c < fam.child_slot.size(); ++c) {
+    previous[fam.child_slot[c]] = fam.parent_slot[c];
+    born[fam.child_slot[c]] = 1;
   }
   BondList fresh = build_bonds(p, sim.setup().partial_volume, sim.setup().cracks);
-  apply_no_healing(fresh, p, previous, born, old_b, old_p);
+  refine::apply_no_healing(fresh, p, previous, born, old_b, old_p);
   for (std::size_t i = 0; i < p.size(); ++i)  // the second birth rule
     for (auto k = fresh.begin(i); k < fresh.end(i); ++k)
-      if (fresh.intact[k] && starts_overstretched(p, i, static_cast<std::size_t>(fresh.neighbor[k]),
-                                                  fresh.length[k], sim.critical_stretch()[i]))
+      if (fresh.intact[k] &&
+          refine::starts_overstretched(p, i, static_cast<std::size_t>(fresh.neighbor[k]),
+                                       fresh.length[k], sim.critical_stretch()[i]))
         fresh.intact[k] = 0;
   const DualList fresh_dual = build_dual(fresh);
   const auto fresh_il =
@@ -129,7 +132,7 @@ TEST(RefinementIncremental, RandomEventsEqualFromScratchInEveryPartialVolumeMode
     for (int event = 0; event < 4; ++event) {
       const BondList old_b = sim.bonds();
       const ParticleStore old_p = sim.particles();
-      const auto ev = sim.apply_refinement(random_parents(sim, rng, 0.008, 2));
+      const auto ev = refine::split(sim, random_parents(sim, rng, 0.008, 2));
       ASSERT_GT(ev.children, 0u);
       ASSERT_FALSE(ev.resorted);
       started_broken += static_cast<std::size_t>(ev.started_broken);
@@ -154,7 +157,7 @@ TEST(RefinementIncremental, ThreeDimensionalEventsEqualFromScratch) {
   for (int event = 0; event < 3; ++event) {
     const BondList old_b = sim.bonds();
     const ParticleStore old_p = sim.particles();
-    const auto ev = sim.apply_refinement(random_parents(sim, rng, 0.004, 1));
+    const auto ev = refine::split(sim, random_parents(sim, rng, 0.004, 1));
     ASSERT_GT(ev.children, 0u);
     std::printf("3D event: %zu parents, %zu rows, %lld started broken, %.3f s\n", ev.parents,
                 ev.rows_rebuilt, static_cast<long long>(ev.started_broken), ev.seconds);
@@ -169,8 +172,8 @@ TEST(RefinementIncremental, ResortKeepsEveryBondAndTheForces) {
   Simulation sim(s);
   for (int k = 0; k < 300 && sim.broken_bonds() < 100; ++k) sim.run_steps(10);
   std::mt19937 rng(3);
-  sim.apply_refinement(random_parents(sim, rng, 0.01, 1));
-  sim.apply_refinement(random_parents(sim, rng, 0.01, 2));
+  refine::split(sim, random_parents(sim, rng, 0.01, 1));
+  refine::split(sim, random_parents(sim, rng, 0.01, 2));
   const auto& p = sim.particles();
   auto by_id = [](const Simulation& x) {
     const auto& q = x.particles();
@@ -191,7 +194,7 @@ TEST(RefinementIncremental, ResortKeepsEveryBondAndTheForces) {
   const auto f_before = forces(sim);
   const auto broken = sim.broken_bonds();
   const auto arena_before = sim.bonds().slots();
-  const double seconds = sim.resort();
+  const double seconds = sim.compact();
   EXPECT_EQ(by_id(sim), rows_before);
   EXPECT_EQ(sim.broken_bonds(), broken);
   EXPECT_EQ(sim.bonds().slots(), sim.bonds().size());  // compacted

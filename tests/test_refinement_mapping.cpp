@@ -8,8 +8,9 @@
 #include <cmath>
 #include <cstdio>
 
-#include "engine/kernels.hpp"
+#include "engine/physics/bond_loops.hpp"
 #include "engine/simulation.hpp"
+#include "refine/event.hpp"
 #include "tests/refine_support.hpp"
 
 namespace dhpd {
@@ -54,8 +55,10 @@ struct Worst {
 
 /// Largest distance of the children's u (all) and v (those of parents that kept every child)
 /// from the fields.
-Worst off_field(const Simulation& sim, const RefinementEvent& ev, const Field& u, const Field& v) {
+Worst off_field(const Simulation& sim, const ParticleStore& before, const Field& u,
+                const Field& v) {
   const auto& p = sim.particles();
+  const auto ev = test::family_of_event(before, p);
   std::vector<int> siblings(p.size(), 0);
   for (const auto q : ev.parent_slot) ++siblings[static_cast<std::size_t>(q)];
   Worst w;
@@ -83,23 +86,25 @@ SimulationSetup cracked_disc() {
 }
 
 TEST(RefinementMapping, LinearFieldsAreReproducedAndMomentumIsExact) {
-  for (const auto mapping : {StateMapping::Linear, StateMapping::Quadratic, StateMapping::Copy}) {
+  for (const auto mapping : {refine::StateMapping::Linear, refine::StateMapping::Quadratic,
+                             refine::StateMapping::Copy}) {
     Simulation sim(cracked_disc());
     impose(sim, kDisplacement, kVelocity);
     const auto before = sim.energies();
-    const auto ev = sim.apply_refinement(all_particles(sim), mapping);
+    const auto store = sim.particles();
+    const auto ev = refine::split(sim, all_particles(sim), mapping);
     const auto after = sim.energies();
-    const auto w = off_field(sim, ev, kDisplacement, kVelocity);
+    const auto w = off_field(sim, store, kDisplacement, kVelocity);
     const double pscale = std::hypot(before.momentum[0], before.momentum[1]);
     std::printf(
         "linear field, %s: %zu children (%zu dropped), worst |u - u(X)| %.2e m, "
         "|v - v(X)| %.2e m/s, momentum %.1e %.1e\n",
-        mapping_name(mapping), ev.children, ev.dropped, w.u, w.v,
+        refine::mapping_name(mapping), ev.children, ev.dropped, w.u, w.v,
         (after.momentum[0] - before.momentum[0]) / pscale,
         (after.momentum[1] - before.momentum[1]) / pscale);
     ASSERT_GT(ev.dropped, 0u);
     for (int a = 0; a < 2; ++a) EXPECT_NEAR(after.momentum[a], before.momentum[a], 1e-13 * pscale);
-    if (mapping == StateMapping::Copy) {
+    if (mapping == refine::StateMapping::Copy) {
       EXPECT_GT(w.u, 1e-7);  // a quarter cell times the gradient: what the copy misses
       continue;
     }
@@ -111,15 +116,16 @@ TEST(RefinementMapping, LinearFieldsAreReproducedAndMomentumIsExact) {
 TEST(RefinementMapping, QuadraticMappingReproducesACurvedField) {
   Field u = kDisplacement, v = kVelocity;
   u.curved = v.curved = true;
-  for (const auto mapping : {StateMapping::Quadratic, StateMapping::Linear}) {
+  for (const auto mapping : {refine::StateMapping::Quadratic, refine::StateMapping::Linear}) {
     auto s = test::plate(1e-3, 0.02, 0.02);
     s.resort_fraction = 0.0;
     Simulation sim(s);
     impose(sim, u, v);
-    const auto ev = sim.apply_refinement(all_particles(sim), mapping);
-    const auto w = off_field(sim, ev, u, v);
-    std::printf("curved field, %s: worst |u - u(X)| %.2e m\n", mapping_name(mapping), w.u);
-    if (mapping == StateMapping::Quadratic) {
+    const auto store = sim.particles();
+    refine::split(sim, all_particles(sim), mapping);
+    const auto w = off_field(sim, store, u, v);
+    std::printf("curved field, %s: worst |u - u(X)| %.2e m\n", refine::mapping_name(mapping), w.u);
+    if (mapping == refine::StateMapping::Quadratic) {
       EXPECT_LT(w.u, 1e-17);
     } else {
       EXPECT_GT(w.u, 1e-10);
@@ -165,18 +171,19 @@ double worst_intact_stretch(const Simulation& sim) {
 TEST(RefinementMapping, AStrainedBodyIsRefinedWithoutBreakingABond) {
   // Every bond at 0.9 s0 of the coarse level (the smaller s0: the children's is √2 larger).
   const double s0 = Simulation(test::plate(1e-3, 0.03, 0.03)).critical_stretch()[0];
-  for (const auto mapping : {StateMapping::Linear, StateMapping::Quadratic, StateMapping::Copy}) {
+  for (const auto mapping : {refine::StateMapping::Linear, refine::StateMapping::Quadratic,
+                             refine::StateMapping::Copy}) {
     Simulation sim(strained_plate(0.9 * s0));
-    const auto ev = sim.apply_refinement(patch(sim), mapping);
+    const auto ev = refine::split(sim, patch(sim), mapping);
     const double worst = worst_intact_stretch(sim);
     std::printf(
         "strained at 0.9 s0, %s: event broke %lld (no healing) + %lld (overstretched), "
         "worst intact stretch %.3f s0\n",
-        mapping_name(mapping), static_cast<long long>(ev.started_broken),
+        refine::mapping_name(mapping), static_cast<long long>(ev.started_broken),
         static_cast<long long>(ev.started_overstretched), worst);
     EXPECT_EQ(ev.started_broken, 0);
     EXPECT_LT(worst, 1.0);  // the birth rule leaves no intact bond at or above s0
-    if (mapping == StateMapping::Copy) {
+    if (mapping == refine::StateMapping::Copy) {
       EXPECT_GT(ev.started_overstretched, 0);  // the copy's jumps double the stretch
     } else {
       EXPECT_EQ(ev.started_overstretched, 0);
@@ -195,7 +202,7 @@ TEST(RefinementMapping, TheNextFiftyStepsBreakNoMoreBondsThanWithoutTheEvent) {
     auto s = strained_plate(0.9 * s0);
     s.interface_correction = correction;
     Simulation unrefined(s), sim(s);
-    const auto ev = sim.apply_refinement(patch(sim));
+    const auto ev = refine::split(sim, patch(sim));
     unrefined.run_steps(50);
     sim.run_steps(50);
     std::printf(
@@ -221,7 +228,7 @@ TEST(RefinementMapping, AtNinetyPercentOfTheFineCriticalStretchChildrenStayIntac
     s.no_fail = {Box{{0, 0, 0}, {0.03, 0.0099, 0}}, Box{{0, 0.0201, 0}, {0.03, 0.03, 0}},
                  Box{{0, 0, 0}, {0.0099, 0.03, 0}}, Box{{0.0201, 0, 0}, {0.03, 0.03, 0}}};
     Simulation sim(s);
-    const auto ev = sim.apply_refinement(patch(sim));
+    const auto ev = refine::split(sim, patch(sim));
     std::size_t child_bonds = 0;
     const auto& p = sim.particles();
     for (std::size_t i = 0; i < p.size(); ++i)
@@ -261,13 +268,13 @@ SimulationSetup plate_with(BoundaryCondition::Kind kind) {
 TEST(RefinementMapping, LoadsFollowTheParentsNotTheRegions) {
   // Traction: from rest, one step gives Σ m v = dt Σ b V (internal forces cancel exactly).
   std::vector<double> force, held;
-  for (const bool refine : {false, true}) {
+  for (const bool refined : {false, true}) {
     Simulation pulled(plate_with(BoundaryCondition::Kind::Traction));
-    if (refine) pulled.apply_refinement(all_particles(pulled));
+    if (refined) refine::split(pulled, all_particles(pulled));
     pulled.step();
     force.push_back(pulled.energies().momentum[1] / pulled.dt());
     Simulation pushed(plate_with(BoundaryCondition::Kind::Velocity));
-    if (refine) pushed.apply_refinement(all_particles(pushed));
+    if (refined) refine::split(pushed, all_particles(pushed));
     pushed.step();
     const auto& p = pushed.particles();
     double v = 0.0;

@@ -22,8 +22,8 @@ TEST(Refinement, MomentumStaysAtRoundOffThroughAnAdaptiveRun) {
   refine::Settings set;
   set.trigger.damage = 0.02;
   set.check_every = 5;
-  set.mapping = StateMapping::Linear;
-  const refine::Refiner refiner(set);
+  set.mapping = refine::StateMapping::Linear;
+  refine::Refiner refiner(set);
   int events = 0;
   double worst = 0.0;
   for (int k = 1; k <= 300; ++k) {
@@ -66,7 +66,7 @@ TEST(Refinement, ThreeDimensionalSplitConservesAndRefineAllEqualsFine) {
   coarse_setup.fixed_dt = dt;
   Simulation fine(fine_setup), coarse(coarse_setup);
   const auto before = coarse.energies();
-  const auto ev = coarse.apply_refinement(all_particles(coarse));
+  const auto ev = refine::split(coarse, all_particles(coarse));
   const auto after = coarse.energies();
   EXPECT_EQ(ev.children, 8 * 216u);
   EXPECT_NEAR(after.kinetic, before.kinetic, 1e-12 * before.kinetic);

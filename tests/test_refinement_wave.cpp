@@ -7,6 +7,7 @@
 #include <cstdio>
 
 #include "engine/simulation.hpp"
+#include "refine/event.hpp"
 
 namespace dhpd {
 namespace {
@@ -53,7 +54,7 @@ std::vector<double> probe_history(ForceModel model, bool refine, double t_end) {
       for (std::size_t i = 0; i < p.size(); ++i)
         if (p.reference_position[0][i] > kInterface)
           parents.push_back(static_cast<std::int32_t>(i));
-      const auto ev = sim.apply_refinement(parents);
+      const auto ev = refine::split(sim, parents);
       EXPECT_EQ(ev.children, 2 * parents.size());
     }
     const auto& p = sim.particles();

@@ -2,7 +2,7 @@
 // trip. The refused scenes are in test_scene_errors.cpp.
 #include <gtest/gtest.h>
 
-#include "engine/errors.hpp"
+#include "engine/base/errors.hpp"
 #include "tests/scene_samples.hpp"
 #include "tools/scene/scene.hpp"
 

@@ -3,7 +3,7 @@
 
 #include <sstream>
 
-#include "engine/errors.hpp"
+#include "engine/base/errors.hpp"
 #include "tests/scene_samples.hpp"
 #include "tools/scene/scene.hpp"
 

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <limits>
 
-#include "engine/errors.hpp"
+#include "engine/base/errors.hpp"
 #include "tests/support.hpp"
 #include "tools/scene/build.hpp"
 #include "tools/scene/scene.hpp"

@@ -15,7 +15,7 @@
 #include <sstream>
 #include <string>
 
-#include "engine/errors.hpp"
+#include "engine/base/errors.hpp"
 #include "tools/scene/points_file.hpp"
 
 namespace {

@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/errors.hpp"
+#include "engine/base/errors.hpp"
 #include "tools/scene/build.hpp"
 #include "tools/scene/scene.hpp"
 

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "engine/material_law.hpp"
+#include "engine/physics/material_law.hpp"
 
 namespace dhpd::lefm {
 

@@ -9,7 +9,7 @@
 #include <chrono>
 #include <ostream>
 
-#include "engine/kernels.hpp"
+#include "engine/physics/bond_loops.hpp"
 #include "engine/simulation.hpp"
 
 namespace dhpd {

@@ -6,7 +6,7 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 
-#include "engine/errors.hpp"
+#include "engine/base/errors.hpp"
 #include "tools/bench/bench.hpp"
 #include "tools/cli/python_commands.hpp"
 #include "tools/run/runner.hpp"

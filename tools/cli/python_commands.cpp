@@ -13,7 +13,7 @@
 #include <stdexcept>
 #include <system_error>
 
-#include "engine/errors.hpp"
+#include "engine/base/errors.hpp"
 
 namespace dhpd {
 namespace {

@@ -12,7 +12,7 @@
 #include <queue>
 #include <utility>
 
-#include "engine/spatial_grid.hpp"
+#include "engine/discretization/neighbor_search.hpp"
 
 namespace dhpd::measure {
 namespace {
@@ -110,18 +110,17 @@ DamageGraph damage_graph(const ParticleStore& p, double threshold) {
     }
   g.offset.assign(1, 0);
   if (g.particle.empty()) return g;
-  SpatialGrid grid(p.dim(), widest, kLinkFactor);
-  for (std::size_t n = 0; n < g.size(); ++n) {
-    const auto i = static_cast<std::size_t>(g.particle[n]);
-    grid.insert(static_cast<std::int32_t>(n), point_of(p.reference_position, i), p.spacing[i]);
-  }
-  // The grid keeps |ξ| < radius; the link rule keeps |ξ| ≤ 1.5 max(Δx): ask slightly wider.
+  VectorArray points;
+  for (const auto i : g.particle)
+    for (int a = 0; a < 3; ++a) points[a].push_back(p.reference_position[a][i]);
+  const NeighborSearch search(points, p.dim());
+  // The search keeps |ξ| ≤ radius; the link rule keeps |ξ| ≤ 1.5 max(Δx): ask slightly wider.
   const double reach = kLinkFactor * widest * (1.0 + 1e-9);
   std::vector<std::int32_t> near;
   for (std::size_t n = 0; n < g.size(); ++n) {
     const auto i = static_cast<std::size_t>(g.particle[n]);
     const Vec3 x = point_of(p.reference_position, i);
-    grid.within(x, reach, near, static_cast<std::int32_t>(n));
+    search.within(n, reach, near);
     for (const auto m : near) {
       const auto j = static_cast<std::size_t>(g.particle[m]);
       const double d = geometry::norm(point_of(p.reference_position, j) - x);

@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "engine/material_law.hpp"
-#include "engine/particles.hpp"
+#include "engine/discretization/particles.hpp"
+#include "engine/physics/material_law.hpp"
 #include "geometry/shapes.hpp"
 #include "geometry/vec.hpp"
 

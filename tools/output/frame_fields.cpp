@@ -1,8 +1,8 @@
 // Per-particle output arrays, built once per frame (never in the time loop).
 #include "tools/output/frame_fields.hpp"
 
-#include "engine/errors.hpp"
-#include "engine/kernels.hpp"
+#include "engine/base/errors.hpp"
+#include "engine/physics/bond_loops.hpp"
 
 namespace dhpd::io {
 namespace {

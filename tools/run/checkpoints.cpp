@@ -6,9 +6,9 @@
 #include <filesystem>
 #include <sstream>
 
-#include "engine/archive.hpp"
-#include "engine/checkpoint.hpp"
-#include "engine/errors.hpp"
+#include "engine/base/errors.hpp"
+#include "engine/checkpoint/archive.hpp"
+#include "engine/checkpoint/checkpoint.hpp"
 
 namespace dhpd {
 namespace {

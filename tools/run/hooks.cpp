@@ -41,7 +41,7 @@ std::vector<io::MaterialCount> material_counts(const scene::Scene& s, const Simu
   return counts;
 }
 
-void RefinementHook::log(const Simulation& sim, const RefinementEvent& ev) {
+void RefinementHook::log(const Simulation& sim, const refine::RefinementEvent& ev) {
   io::RefinementRow r;
   r.generation = ev.generation;
   r.step = sim.steps_done();

@@ -69,13 +69,13 @@ struct RefinementHook {
   RefinementHook(const refine::Settings& settings, bool echo_lines)
       : refiner(settings), echo(echo_lines) {}
   refine::Refiner refiner;
-  std::vector<RefinementEvent> pending;  ///< zone events applied before the output existed
+  std::vector<refine::RefinementEvent> pending;  ///< zone events applied before the output existed
   std::unique_ptr<io::RefinementWriter> csv;
   bool echo = true;
   std::int64_t events = 0;
 
   /// One row of refinement.csv (and a log line) for an event.
-  void log(const Simulation& sim, const RefinementEvent& ev);
+  void log(const Simulation& sim, const refine::RefinementEvent& ev);
 };
 
 /// Crack measurements of a scene with `measure`: cracks.csv and the summary's "cracks".

@@ -3,7 +3,7 @@
 
 #include <fmt/core.h>
 
-#include "engine/errors.hpp"
+#include "engine/base/errors.hpp"
 
 namespace dhpd {
 namespace {

@@ -11,8 +11,8 @@
 #include <iostream>
 #include <memory>
 
-#include "engine/checkpoint.hpp"
-#include "engine/errors.hpp"
+#include "engine/base/errors.hpp"
+#include "engine/checkpoint/checkpoint.hpp"
 #include "refine/refiner.hpp"
 #include "tools/output/frame_fields.hpp"
 #include "tools/output/text_outputs.hpp"
@@ -321,6 +321,7 @@ void run_scene(const scene::Scene& s, const RunOptions& opt) {
   auto ctx = open_outputs(s, *sim, dir, state, from.has_value());
   if (opt.echo) run::log_start(s, *sim, state.planned_steps, dir);
   if (hook) {
+    hook->refiner.prepare(*sim);  // the events' search, before the first one is timed
     hook->events = state.refinement_events;
     hook->csv =
         std::make_unique<io::RefinementWriter>((dir / "refinement.csv").string(), from.has_value());

@@ -11,10 +11,10 @@
 #include <memory>
 #include <set>
 
-#include "engine/checkpoint.hpp"
-#include "engine/errors.hpp"
-#include "engine/kernels.hpp"
-#include "engine/neighbor_search.hpp"
+#include "engine/base/errors.hpp"
+#include "engine/checkpoint/checkpoint.hpp"
+#include "engine/discretization/neighbor_search.hpp"
+#include "engine/physics/bond_loops.hpp"
 #include "geometry/mesh_points.hpp"
 #include "geometry/point_checks.hpp"
 #include "tools/scene/points_file.hpp"

@@ -7,7 +7,7 @@
 #include <cmath>
 #include <limits>
 
-#include "engine/errors.hpp"
+#include "engine/base/errors.hpp"
 #include "tools/scene/detail.hpp"
 
 namespace dhpd::scene {

@@ -8,7 +8,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "engine/errors.hpp"
+#include "engine/base/errors.hpp"
 
 namespace dhpd::scene {
 

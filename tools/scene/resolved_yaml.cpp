@@ -3,7 +3,7 @@
 
 #include <cstdlib>
 
-#include "engine/material_law.hpp"
+#include "engine/physics/material_law.hpp"
 #include "tools/scene/detail.hpp"
 
 namespace dhpd::scene {
@@ -253,7 +253,7 @@ void emit_effects(YAML::Emitter& out, const Scene& s) {
   out << YAML::Key << "buffer" << YAML::Value << number_text(r.buffer);
   out << YAML::Key << "max_level" << YAML::Value << r.max_level;
   out << YAML::Key << "check_every" << YAML::Value << r.check_every;
-  out << YAML::Key << "mapping" << YAML::Value << mapping_name(r.mapping);
+  out << YAML::Key << "mapping" << YAML::Value << refine::mapping_name(r.mapping);
   for (const auto& [key, shapes] : {std::pair{"zones", &r.zones}, std::pair{"within", &r.within}}) {
     if (shapes->empty()) continue;
     out << YAML::Key << key << YAML::Value << YAML::BeginSeq;

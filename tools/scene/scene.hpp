@@ -8,9 +8,9 @@
 #include <string_view>
 #include <vector>
 
-#include "engine/loads.hpp"
-#include "engine/material_law.hpp"
-#include "engine/settings.hpp"
+#include "engine/discretization/section.hpp"
+#include "engine/physics/loads.hpp"
+#include "engine/physics/material_law.hpp"
 #include "engine/simulation.hpp"
 #include "geometry/crack.hpp"
 #include "geometry/mesh_points.hpp"

@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "engine/material_law.hpp"
+#include "engine/physics/material_law.hpp"
 #include "tools/scene/detail.hpp"
 
 namespace dhpd::scene::detail {

@@ -6,7 +6,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "engine/errors.hpp"
+#include "engine/base/errors.hpp"
 #include "tools/scene/detail.hpp"
 
 namespace dhpd::scene {

@@ -72,8 +72,8 @@ std::optional<RefinementSpec> read_refinement(const Cursor& c, const Scene& s) {
   if (r.settings.max_level > 8) m.get("max_level")->fail("max_level must be <= 8", "1 to 8");
   if (const auto v = m.get("check_every")) r.settings.check_every = positive_integer(*v);
   if (const auto v = m.get("mapping"))
-    r.settings.mapping = static_cast<StateMapping>(
-        v->choice({std::begin(kStateMappingNames), std::end(kStateMappingNames)}));
+    r.settings.mapping = static_cast<refine::StateMapping>(
+        v->choice({std::begin(refine::kStateMappingNames), std::end(refine::kStateMappingNames)}));
   if (const auto v = m.get("zones"))
     for (const auto& z : read_regions(*v, s.dimension)) r.settings.zones.push_back(z.shape);
   if (const auto v = m.get("within"))

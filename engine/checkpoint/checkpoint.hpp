@@ -1,0 +1,99 @@
+// Checkpoints: the whole state of a Simulation as bytes, and the versioned, checksummed file that
+// carries it with the scene text and the caller's own run state (README, "Checkpoint and
+// restart"). Restoring into a Simulation built from the same setup continues bit for bit.
+//
+// File layout (native byte order, refused on a machine of the other order):
+//   "DHPDCKPT" | u32 format version | u32 0x01020304 | u64 payload bytes | u64 checksum of payload
+//   (archive::Checksum: FNV-1a over 64-bit words)
+//   payload: scene text | u64 setup fingerprint | simulation bytes | run-state bytes
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "engine/simulation.hpp"
+
+namespace dhpd {
+
+// 2: bond stiffness factors, crack tracks' initial angles and branch speeds;
+// 3: refinement's search grid and event scratch left the state, the layout version entered.
+constexpr std::uint32_t kCheckpointVersion = 3;
+
+/// The in-memory snapshot of a simulation (every array as it is, row arenas included).
+std::vector<std::byte> save_simulation(const Simulation& sim);
+/// The same snapshot written over `out`, in its memory when it is large enough (else `out` is
+/// released before the new buffer is taken), so replacing a snapshot never holds two.
+void save_simulation_into(const Simulation& sim, std::vector<std::byte>& out);
+/// The size of save_simulation(sim), counted without writing it.
+std::size_t simulation_snapshot_bytes(const Simulation& sim);
+/// Overwrites `sim` (built from the same setup) with a snapshot; throws InputError naming
+/// `source` when the bytes are not a snapshot of a simulation of this setup.
+void load_simulation(std::span<const std::byte> bytes, Simulation& sim,
+                     const std::string& source = "snapshot");
+
+/// A hash of what the setup's particles are made from (positions, cell measures, spacings,
+/// materials, dimension): a changed points file or mesh gives another value.
+std::uint64_t setup_fingerprint(const SimulationSetup& setup);
+
+/// What a checkpoint file holds besides its header.
+struct CheckpointParts {
+  std::string scene_text;         ///< the resolved scene the run was started with
+  std::uint64_t fingerprint = 0;  ///< setup_fingerprint of its setup
+  std::span<const std::byte> simulation;
+  std::span<const std::byte> run_state;  ///< the caller's (tools/run_checkpoint.hpp)
+};
+
+/// Header, checksum and parts as one buffer (an in-memory checkpoint).
+std::vector<std::byte> encode_checkpoint(const CheckpointParts& parts);
+/// Checks magic, version, byte order, length and checksum; the spans point into `bytes`. Throws
+/// InputError naming `source` and what is wrong.
+CheckpointParts decode_checkpoint(std::span<const std::byte> bytes, const std::string& source);
+
+/// The checkpoint of `sim` streamed to `path` through an AtomicFile, without a serialised copy
+/// in memory: the bytes of encode_checkpoint({scene_text, setup_fingerprint(sim.setup()),
+/// save_simulation(sim), run_state}).
+void write_checkpoint_file(const std::string& path, const std::string& scene_text,
+                           const Simulation& sim, std::span<const std::byte> run_state,
+                           const std::string& previous = {});
+
+/// A file written as `path.tmp` and renamed onto `path` by commit() (after fsync; the folder is
+/// synced too). With `previous` non-empty, commit() first gives the old `path` that second name
+/// (a hard link), so at every moment `path` names a complete file. Without commit() the
+/// temporary file is removed.
+class AtomicFile {
+ public:
+  explicit AtomicFile(std::string path);
+  ~AtomicFile();
+  AtomicFile(const AtomicFile&) = delete;
+  AtomicFile& operator=(const AtomicFile&) = delete;
+  void write(std::span<const std::byte> bytes);
+  void write_at(std::size_t offset, std::span<const std::byte> bytes);
+  void commit(const std::string& previous = {});
+
+ private:
+  std::string path_, tmp_;
+  int fd_ = -1;
+};
+
+/// Writes `bytes` to `path` through an AtomicFile.
+void write_file_atomically(const std::string& path, std::span<const std::byte> bytes,
+                           const std::string& previous = {});
+
+/// A whole file mapped read-only (a checkpoint is checked and read without a copy); throws
+/// InputError when it cannot be opened.
+class MappedFile {
+ public:
+  explicit MappedFile(const std::string& path);
+  ~MappedFile();
+  MappedFile(const MappedFile&) = delete;
+  MappedFile& operator=(const MappedFile&) = delete;
+  std::span<const std::byte> bytes() const { return {data_, size_}; }
+
+ private:
+  const std::byte* data_ = nullptr;
+  std::size_t size_ = 0;
+};
+
+}  // namespace dhpd

@@ -1,0 +1,67 @@
+// The single owner of per-particle data, as structure of arrays with a field registry.
+// Geometry fields change only at refinement events; state fields change every step.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <string_view>
+#include <variant>
+#include <vector>
+
+#include "geometry/vec.hpp"
+
+namespace dhpd {
+
+/// What a child gets from its parent at a split (used by refine/).
+enum class SplitRule { Copy, DivideByChildren, FromPattern, Reset };
+enum class FieldGroup { Geometry, State };
+
+using ScalarArray = std::vector<double>;
+using VectorArray = std::array<std::vector<double>, 3>;  ///< one array per component
+using IndexArray = std::vector<std::int32_t>;
+using FlagArray = std::vector<std::uint8_t>;
+
+struct FieldInfo {
+  std::string_view name;
+  FieldGroup group;
+  SplitRule split;
+  std::variant<ScalarArray*, VectorArray*, IndexArray*, FlagArray*> data;
+};
+
+/// Point i of a per-component array (e.g. a reference position) as a Vec3.
+inline geometry::Vec3 point_of(const VectorArray& x, std::size_t i) {
+  return {x[0][i], x[1][i], x[2][i]};
+}
+
+class ParticleStore {
+ public:
+  explicit ParticleStore(int dim = 3) : dim_(dim) {}
+
+  int dim() const { return dim_; }
+  std::size_t size() const { return volume.size(); }
+  /// Resize every registered field; new entries are zero.
+  void resize(std::size_t n);
+  /// Every registered field, in a fixed order (the VTK writer and the splitter iterate this).
+  std::vector<FieldInfo> fields();
+
+  // Geometry (reference configuration; rewritten only by refinement).
+  VectorArray reference_position;
+  ScalarArray volume, spacing, horizon, density;
+  ScalarArray radius;  ///< equal-measure radius r_i of the particle (exact partial volumes)
+  IndexArray material, id;
+  IndexArray level;      ///< refinement level: 0 for particles of the scene, +1 per split
+  IndexArray parent_id;  ///< id of the particle this one was split from, −1 for scene particles
+  FlagArray no_fail;
+  // State (advanced every step).
+  VectorArray position;  ///< current position y = X + u
+  VectorArray displacement, velocity;
+  VectorArray force_density;  ///< internal + external force per unit volume (N/m³)
+  ScalarArray damage;
+
+ private:
+  int dim_;
+};
+
+/// The particles `indices` of `p` (in that order) as a store of their own, every field copied.
+ParticleStore gather(ParticleStore& p, const std::vector<std::int32_t>& indices);
+
+}  // namespace dhpd

@@ -1,0 +1,70 @@
+// Per-step loops over bonds: internal force, bond breaking, damage, strain energy, stable step.
+// Formulas: dhpd.md §3 (force), §5 (stable step), §6 (quadrature), §7 (damage); IJNME 2016 eqs.
+// 27, 44.
+#pragma once
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "engine/discretization/bonds.hpp"
+#include "engine/discretization/particles.hpp"
+#include "engine/physics/interactions.hpp"
+
+namespace dhpd {
+
+/// Stretch of bond i→j of reference length `length` in the current configuration (dhpd.md §2),
+/// summed in the order the force and fracture kernels use, so it gives their bits.
+inline double current_stretch(const ParticleStore& p, std::size_t i, std::size_t j, double length) {
+  double l2 = 0.0;
+  for (int a = 0; a < p.dim(); ++a) {
+    const double d = p.position[a][j] - p.position[a][i];
+    l2 += d * d;
+  }
+  return std::sqrt(l2) / length - 1.0;
+}
+
+/// Overwrites `force_density` with the internal force per unit volume of every particle:
+/// f_i = Σ_k K_k β_k V_k s_k n_k, gathered row by row (no atomics, thread-count independent).
+/// With `rows`, only those particles are updated.
+void internal_force_density(const InteractionList& il, ParticleStore& p,
+                            const std::vector<std::int32_t>* rows = nullptr);
+
+/// Breaks every intact bond with s ≥ s0 of its owner (owners flagged no_fail are skipped).
+/// Zeroes both views of a broken bond. Returns the number of bonds broken by this call.
+std::int64_t break_bonds(BondList& bonds, InteractionList& il, const ParticleStore& p,
+                         const std::vector<double>& critical_stretch);
+
+/// φ_i = 1 − Σ μ β V_j / Σ β V_j over own bonds (dhpd.md §7); written to p.damage.
+/// With `rows`, only those particles are updated.
+void compute_damage(const BondList& bonds, ParticleStore& p,
+                    const std::vector<std::int32_t>* rows = nullptr);
+
+/// Strain-energy density of each particle from its own bonds: W_i = Σ_j ½ C_i β s² |ξ| V_j.
+void strain_energy_density(const BondList& bonds, const ParticleStore& p,
+                           const std::vector<double>& micromodulus, std::vector<double>& out);
+/// Σ V_i W_i over the given rows, in their order (the strain energy those rows hold).
+double strain_energy_of_rows(const BondList& bonds, const ParticleStore& p,
+                             const std::vector<double>& micromodulus,
+                             const std::vector<std::int32_t>& rows);
+
+/// Quadrature diagnostic (V_i + Σ_{j∈H_i} β_ij V_j) / |ball(δ_i)| (dhpd.md §6), over all own
+/// bonds of the reference configuration (broken ones included; pre-cracked pairs have no bond).
+/// 1 for a perfect quadrature of an interior particle's horizon.
+void horizon_quadrature(const BondList& bonds, const ParticleStore& p, const Section& section,
+                        std::vector<double>& out);
+
+/// Largest stable step per dhpd.md §5: min_i sqrt(2 ρ_i / Σ_k K_k β_k V_k / |ξ_k|) (no safety).
+double critical_time_step(const InteractionList& il, const ParticleStore& p);
+
+/// The same bound per particle (infinite for a particle without bonds), resized to the store;
+/// with `rows`, only those entries are recomputed.
+void particle_time_steps(const InteractionList& il, const ParticleStore& p,
+                         std::vector<double>& out, const std::vector<std::int32_t>* rows = nullptr);
+
+/// The smallest entry (infinity for none): the stable step from particle_time_steps.
+double smallest(const std::vector<double>& values);
+
+/// Deterministic sum (fixed order, independent of threads).
+double ordered_sum(const std::vector<double>& values);
+
+}  // namespace dhpd

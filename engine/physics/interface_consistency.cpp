@@ -1,0 +1,370 @@
+// Consistent level interfaces: per-bond stiffness factors from a minimum-change solve (docs/
+// theory.md §4), by a matrix-free conjugate gradient with block-Jacobi preconditioning.
+#include "engine/physics/interface_consistency.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <unordered_map>
+
+namespace dhpd {
+
+namespace {
+
+constexpr int kMaxComponents = 10;
+using Block =
+    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxComponents, kMaxComponents>;
+using Moment = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxComponents, 1>;
+
+int components(int dim) {
+  return dim == 1 ? 1 : (dim == 2 ? 4 : 10);
+}
+
+/// n⊗n⊗n of the unit vector from particle i to j (reference positions), independent components.
+Moment moment_of(const ParticleStore& p, std::size_t i, std::size_t j) {
+  const int d = p.dim();
+  double n[3] = {0, 0, 0}, len2 = 0.0;
+  for (int a = 0; a < d; ++a) {
+    n[a] = p.reference_position[a][j] - p.reference_position[a][i];
+    len2 += n[a] * n[a];
+  }
+  const double inv = 1.0 / std::sqrt(len2);
+  for (int a = 0; a < d; ++a) n[a] *= inv;
+  const double x = n[0], y = n[1], z = n[2];
+  Moment m(components(d));
+  if (d == 1) {
+    m << x * x * x;
+  } else if (d == 2) {
+    m << x * x * x, x * x * y, x * y * y, y * y * y;
+  } else {
+    m << x * x * x, y * y * y, z * z * z, x * x * y, x * x * z, x * y * y, y * y * z, x * z * z,
+        y * z * z, x * y * z;
+  }
+  return m;
+}
+
+/// The region as a membership test (every particle when it is empty).
+struct Region {
+  const std::vector<std::int32_t>& list;
+  bool all;
+  bool has(std::int32_t i) const { return all || std::binary_search(list.begin(), list.end(), i); }
+};
+
+/// Horizon tests on the reference configuration, cached per particle.
+class HorizonTests {
+ public:
+  HorizonTests(const BondList& b, const DualList& d, const ParticleStore& p)
+      : b_(b), d_(d), p_(p) {}
+
+  bool complete(std::int32_t i) {
+    const auto it = complete_.find(i);
+    if (it != complete_.end()) return it->second;
+    const auto u = static_cast<std::size_t>(i);
+    double m[3] = {0, 0, 0}, v = 0.0;
+    for (auto k = b_.begin(u); k < b_.end(u); ++k) {
+      const auto j = static_cast<std::size_t>(b_.neighbor[k]);
+      const double w = b_.weight[k] * p_.volume[j];
+      v += w;
+      for (int a = 0; a < p_.dim(); ++a)
+        m[a] += w * (p_.reference_position[a][j] - p_.reference_position[a][u]);
+    }
+    const double first = std::sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
+    return complete_[i] = v > 0.0 && first < complete_horizon_moment(p_.dim()) * v * p_.horizon[u];
+  }
+
+  /// Calls f(partner) for every own neighbour and every owner of a bond on i.
+  template <class F>
+  void each_partner(std::size_t i, F&& f) const {
+    for (auto k = b_.begin(i); k < b_.end(i); ++k) f(b_.neighbor[k]);
+    for (auto e = d_.begin(i); e < d_.end(i); ++e) f(b_.owner[d_.bond[e]]);
+  }
+
+  /// A bond (own or dual) to a particle whose horizon differs by kHorizonJumpRatio or more.
+  bool at_jump(std::size_t i) const {
+    bool jump = false;
+    each_partner(i, [&](std::int32_t j) {
+      const double a = p_.horizon[i], c = p_.horizon[static_cast<std::size_t>(j)];
+      jump = jump || std::max(a, c) >= kHorizonJumpRatio * std::min(a, c);
+    });
+    return jump;
+  }
+
+  /// At a jump or bonded to a particle at one (so the correction has bonds on every side),
+  /// complete, and every partner complete.
+  bool constrained(std::int32_t i) {
+    const auto u = static_cast<std::size_t>(i);
+    bool near = at_jump(u);
+    if (!near)
+      each_partner(u, [&](std::int32_t j) { near = near || at_jump(static_cast<std::size_t>(j)); });
+    if (!near || !complete(i)) return false;
+    bool partners_complete = true;
+    each_partner(u, [&](std::int32_t j) { partners_complete = partners_complete && complete(j); });
+    return partners_complete;
+  }
+
+ private:
+  const BondList& b_;
+  const DualList& d_;
+  const ParticleStore& p_;
+  std::unordered_map<std::int32_t, bool> complete_;
+};
+
+/// One unknown: bond b between constrained particles li (owner) and lj, a_b = (V_j N, −V_i N).
+struct Unknown {
+  std::int64_t bond;
+  std::int32_t li, lj;
+  double K, vi, vj;
+  Moment N;
+};
+
+}  // namespace
+
+std::vector<double> third_moment(const BondList& b, const DualList& d, const ParticleStore& p,
+                                 const std::vector<double>& C, std::size_t i) {
+  Moment t = Moment::Zero(components(p.dim()));
+  for (auto k = b.begin(i); k < b.end(i); ++k) {
+    const auto j = static_cast<std::size_t>(b.neighbor[k]);
+    t += (C[i] * b.weight[k] * b.stiffness[k] * p.volume[j]) * moment_of(p, i, j);
+  }
+  for (auto e = d.begin(i); e < d.end(i); ++e) {
+    const auto k = d.bond[e];
+    const auto o = static_cast<std::size_t>(b.owner[k]);
+    t += (C[o] * b.weight[k] * b.stiffness[k] * p.volume[o]) * moment_of(p, i, o);
+  }
+  return {t.data(), t.data() + t.size()};
+}
+
+namespace {
+
+/// The conjugate-gradient solve of (M + R) x = rhs, with C components per particle fixed at
+/// compile time: M = Σ_b K_b a_b a_bᵀ, R the regularization blocks γ (D_p + tr(D_p)/C I) with D_p
+/// the diagonal blocks of M, preconditioned by the inverses of D_p + R_p.
+template <int C>
+struct BlockSolver {
+  using Vec = Eigen::Matrix<double, C, 1>;
+  using Mat = Eigen::Matrix<double, C, C>;
+  const std::vector<Unknown>& us;
+  std::vector<Mat> reg, inv;
+
+  BlockSolver(const std::vector<Unknown>& unknowns, const std::vector<Block>& diag,
+              const std::vector<int>& touched, double gamma)
+      : us(unknowns), reg(diag.size()), inv(diag.size()) {
+    for (std::size_t k = 0; k < diag.size(); ++k) {
+      const Mat D = diag[k];
+      reg[k] = gamma * (D + (D.trace() / C) * Mat::Identity());
+      inv[k] = touched[k] ? Mat((D + reg[k]).ldlt().solve(Mat::Identity())) : Mat::Zero();
+    }
+  }
+
+  static auto at(Eigen::VectorXd& v, std::int32_t k) { return v.template segment<C>(C * k); }
+  static auto at(const Eigen::VectorXd& v, std::int32_t k) { return v.template segment<C>(C * k); }
+
+  void apply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
+    for (std::size_t k = 0; k < reg.size(); ++k)
+      at(y, static_cast<std::int32_t>(k)) = reg[k] * at(x, static_cast<std::int32_t>(k));
+    for (const auto& u : us) {
+      const Vec N = u.N.template head<C>();
+      const double s = N.dot(u.vj * at(x, u.li) - u.vi * at(x, u.lj));
+      at(y, u.li) += (u.K * u.vj * s) * N;
+      at(y, u.lj) -= (u.K * u.vi * s) * N;
+    }
+  }
+
+  void precondition(const Eigen::VectorXd& in, Eigen::VectorXd& out) const {
+    for (std::size_t k = 0; k < inv.size(); ++k)
+      at(out, static_cast<std::int32_t>(k)) = inv[k] * at(in, static_cast<std::int32_t>(k));
+  }
+
+  int solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& x) const {
+    x.setZero(rhs.size());
+    Eigen::VectorXd r = rhs, z(rhs.size()), q(rhs.size());
+    precondition(r, z);
+    Eigen::VectorXd dir = z;
+    double rz = r.dot(z);
+    const double stop = 1e-3 * rhs.norm();  // the moments to 1e-3 of what they were
+    int it = 0;
+    for (; it < 2000 && r.norm() > stop; ++it) {
+      apply(dir, q);
+      const double alpha = rz / dir.dot(q);
+      x += alpha * dir;
+      r -= alpha * q;
+      precondition(r, z);
+      const double rz_next = r.dot(z);
+      dir = z + (rz_next / rz) * dir;
+      rz = rz_next;
+    }
+    return it;
+  }
+};
+
+/// Connected components of the constrained particles through the unknowns (union-find).
+std::vector<std::int32_t> components_of(const std::vector<Unknown>& us, std::size_t n) {
+  std::vector<std::int32_t> root(n);
+  for (std::size_t k = 0; k < n; ++k) root[k] = static_cast<std::int32_t>(k);
+  auto find = [&](std::int32_t k) {
+    while (root[static_cast<std::size_t>(k)] != k)
+      k = root[static_cast<std::size_t>(k)] =
+          root[static_cast<std::size_t>(root[static_cast<std::size_t>(k)])];
+    return k;
+  };
+  for (const auto& u : us) {
+    const auto a = find(u.li), b = find(u.lj);
+    if (a != b) root[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
+  }
+  for (std::size_t k = 0; k < n; ++k) root[k] = find(static_cast<std::int32_t>(k));
+  return root;
+}
+
+/// Within each component no factor can change Σ V_p T_p (every bond adds V_i V_j K N − V_j V_i K N
+/// to it): that part of the right-hand side is left as a residual spread as V_p ȳ, which keeps
+/// the system consistent (x_p = V_p y is its null space).
+void remove_net_moment(Eigen::VectorXd& rhs, const std::vector<std::int32_t>& component,
+                       const std::vector<double>& volume, const std::vector<int>& touched, int c) {
+  std::unordered_map<std::int32_t, std::pair<Eigen::VectorXd, double>> sums;
+  for (std::size_t k = 0; k < component.size(); ++k) {
+    if (!touched[k]) continue;
+    auto& s = sums.try_emplace(component[k], Eigen::VectorXd::Zero(c), 0.0).first->second;
+    s.first += volume[k] * rhs.segment(c * static_cast<Eigen::Index>(k), c);
+    s.second += volume[k] * volume[k];
+  }
+  for (std::size_t k = 0; k < component.size(); ++k) {
+    if (!touched[k]) continue;
+    const auto& s = sums.at(component[k]);
+    rhs.segment(c * static_cast<Eigen::Index>(k), c) -= (volume[k] / s.second) * s.first;
+  }
+}
+
+/// The system of one correction: unknown bonds, constrained particles and their moments.
+struct System {
+  int c = 0;
+  std::vector<std::int32_t> constrained;
+  std::vector<Unknown> us;
+  std::vector<int> touched;  ///< unknowns per constrained particle
+  std::vector<Block> diag;   ///< diagonal blocks of M
+  Eigen::VectorXd rhs;       ///< −T, less the part no factor can change
+  double before = 0.0;       ///< largest |T| before
+};
+
+System assemble(const BondList& b, const DualList& d, const ParticleStore& p,
+                const std::vector<double>& C, std::vector<std::int32_t> constrained) {
+  System sys;
+  sys.c = components(p.dim());
+  const int c = sys.c;
+  sys.constrained = std::move(constrained);
+  const std::size_t n = sys.constrained.size();
+  std::unordered_map<std::int32_t, std::int32_t> local;
+  for (std::size_t k = 0; k < n; ++k) local[sys.constrained[k]] = static_cast<std::int32_t>(k);
+  sys.touched.assign(n, 0);
+  sys.diag.assign(n, Block::Zero(c, c));
+  for (std::size_t k = 0; k < n; ++k) {
+    const auto i = static_cast<std::size_t>(sys.constrained[k]);
+    for (auto e = b.begin(i); e < b.end(i); ++e) {
+      const auto it = local.find(b.neighbor[e]);
+      if (it == local.end()) continue;
+      const auto j = static_cast<std::size_t>(b.neighbor[e]);
+      const Unknown u{e,
+                      static_cast<std::int32_t>(k),
+                      it->second,
+                      C[i] * b.weight[e],
+                      p.volume[i],
+                      p.volume[j],
+                      moment_of(p, i, j)};
+      sys.diag[k] += (u.K * u.vj * u.vj) * u.N * u.N.transpose();
+      sys.diag[static_cast<std::size_t>(u.lj)] += (u.K * u.vi * u.vi) * u.N * u.N.transpose();
+      ++sys.touched[k], ++sys.touched[static_cast<std::size_t>(it->second)];
+      sys.us.push_back(u);
+    }
+  }
+  sys.rhs = Eigen::VectorXd::Zero(c * static_cast<Eigen::Index>(n));
+  std::vector<double> volume(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    const auto i = static_cast<std::size_t>(sys.constrained[k]);
+    const auto t = third_moment(b, d, p, C, i);
+    volume[k] = p.volume[i];
+    for (int a = 0; a < c; ++a) sys.rhs(c * static_cast<Eigen::Index>(k) + a) = -t[a];
+    sys.before = std::max(sys.before, sys.rhs.segment(c * static_cast<Eigen::Index>(k), c).norm());
+    // Particles without unknowns drop out (their x stays zero and is never used).
+    if (!sys.touched[k]) sys.rhs.segment(c * static_cast<Eigen::Index>(k), c).setZero();
+  }
+  remove_net_moment(sys.rhs, components_of(sys.us, n), volume, sys.touched, c);
+  return sys;
+}
+
+/// λ_b of every unknown from a solve with Tikhonov weight `gamma`.
+template <int C>
+std::vector<double> factors_of(const System& sys, double gamma, int& iterations) {
+  const BlockSolver<C> solver(sys.us, sys.diag, sys.touched, gamma);
+  Eigen::VectorXd x;
+  iterations += solver.solve(sys.rhs, x);
+  std::vector<double> lambda;
+  lambda.reserve(sys.us.size());
+  for (const auto& u : sys.us) {
+    const Eigen::Matrix<double, C, 1> N = u.N.template head<C>();
+    lambda.push_back(
+        N.dot(u.vj * x.template segment<C>(C * u.li) - u.vi * x.template segment<C>(C * u.lj)));
+  }
+  return lambda;
+}
+
+std::vector<double> factors_with(const System& sys, double gamma, int& iterations) {
+  switch (sys.c) {
+    case 1:
+      return factors_of<1>(sys, gamma, iterations);
+    case 4:
+      return factors_of<4>(sys, gamma, iterations);
+    default:
+      return factors_of<10>(sys, gamma, iterations);
+  }
+}
+
+}  // namespace
+
+InterfaceCorrection correct_level_interfaces(BondList& b, const DualList& d, const ParticleStore& p,
+                                             const std::vector<double>& C,
+                                             const std::vector<std::int32_t>& region) {
+  InterfaceCorrection out;
+  const Region in{region, region.empty()};
+  const std::size_t n = in.all ? p.size() : region.size();
+  auto particle = [&](std::size_t k) { return in.all ? static_cast<std::int32_t>(k) : region[k]; };
+  for (std::size_t k = 0; k < n; ++k) {  // reset the factors inside the region
+    const auto i = static_cast<std::size_t>(particle(k));
+    for (auto e = b.begin(i); e < b.end(i); ++e)
+      if (in.has(b.neighbor[e])) b.stiffness[e] = 1.0;
+  }
+  HorizonTests tests(b, d, p);
+  std::vector<std::int32_t> constrained;
+  for (std::size_t k = 0; k < n; ++k)
+    if (tests.constrained(particle(k))) constrained.push_back(particle(k));
+  const System sys = assemble(b, d, p, C, std::move(constrained));
+  if (sys.us.empty()) return out;
+  // The weakest damping whose factors stay within bounds but for a few (kClippedShare): where
+  // the bonds cannot cancel a moment with moderate factors, a stronger Tikhonov weight leaves part
+  // of it (never a soft or negative bond); the remaining few are clipped.
+  std::vector<double> lambda;
+  for (const double gamma : {1e-3, 1e-1}) {
+    lambda = factors_with(sys, gamma, out.iterations);
+    const auto outside = std::count_if(lambda.begin(), lambda.end(), [](double l) {
+      return l < kSmallestFactor - 1.0 || l > kLargestFactor - 1.0;
+    });
+    if (static_cast<double>(outside) <= kClippedShare * static_cast<double>(lambda.size())) break;
+  }
+  for (std::size_t k = 0; k < sys.us.size(); ++k) {
+    const double clipped = std::clamp(lambda[k], kSmallestFactor - 1.0, kLargestFactor - 1.0);
+    out.clipped += clipped != lambda[k] ? 1 : 0;
+    b.stiffness[static_cast<std::size_t>(sys.us[k].bond)] = 1.0 + clipped;
+    out.smallest = std::min(out.smallest, 1.0 + clipped);
+    out.largest = std::max(out.largest, 1.0 + clipped);
+  }
+  double after = 0.0;
+  for (std::size_t k = 0; k < sys.constrained.size(); ++k) {
+    if (!sys.touched[k]) continue;
+    const auto t = third_moment(b, d, p, C, static_cast<std::size_t>(sys.constrained[k]));
+    after = std::max(after, Eigen::Map<const Eigen::VectorXd>(t.data(), sys.c).norm());
+  }
+  out.particles = sys.constrained.size();
+  out.bonds = sys.us.size();
+  out.residual = sys.before > 0.0 ? after / sys.before : 0.0;
+  return out;
+}
+
+}  // namespace dhpd

@@ -1,0 +1,66 @@
+// Initial conditions, prescribed motion and boundary tractions, resolved to particle lists.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "engine/discretization/particles.hpp"
+#include "geometry/shapes.hpp"
+
+namespace dhpd {
+
+using geometry::Vec3;
+
+struct InitialCondition {
+  geometry::Shape region;
+  std::optional<Vec3> velocity;
+  std::optional<Vec3> displacement;
+  std::optional<Vec3> strain;  ///< u_a += strain_a · (X_a − origin_a): a uniform stretch
+  Vec3 origin{0, 0, 0};
+  /// Optional envelope exp(−|X − center|² / width²) multiplying velocity and displacement.
+  std::optional<double> gaussian_width;
+  Vec3 gaussian_center{0, 0, 0};
+  int gaussian_axis = -1;  ///< ≥ 0: exp(−(X_a − center_a)² / width²), a plane pulse along axis a
+};
+
+struct BoundaryCondition {
+  enum class Kind { Velocity, Fixed, Traction };
+  Kind kind = Kind::Fixed;
+  geometry::Shape region;
+  std::array<std::optional<double>, 3> velocity;  ///< prescribed components (Velocity)
+  Vec3 traction{0, 0, 0};  ///< Pa, spread as a body force over the layer (Traction)
+  int normal_axis = 0;     ///< axis normal to the loaded face (Traction)
+};
+
+/// Boundary conditions bound to particle indices for one particle numbering.
+struct ResolvedLoads {
+  std::vector<std::int32_t> prescribed;           ///< particles with prescribed velocity
+  std::vector<std::array<std::uint8_t, 3>> mask;  ///< which components are prescribed
+  std::vector<Vec3> prescribed_velocity;
+  std::vector<std::int32_t> loaded;  ///< particles carrying a body force
+  std::vector<Vec3> body_force;      ///< N/m³
+  /// Per condition: the body force of a traction (fixed when resolved: the loaded layer keeps its
+  /// depth when its cells are refined), zero for the others.
+  std::vector<Vec3> condition_body_force;
+};
+
+/// Particles of `p` inside `region` (reference positions).
+std::vector<std::int32_t> select(const ParticleStore& p, const geometry::Shape& region);
+
+void apply_initial_condition(const InitialCondition& ic, ParticleStore& p);
+
+/// Resolves every boundary condition; throws InputError naming the condition that selects nothing.
+ResolvedLoads resolve_loads(const std::vector<BoundaryCondition>& bcs, const ParticleStore& p);
+
+/// After an edit of the discretisation: particle successor[k] takes over the entries (a
+/// traction's body force, a prescribed velocity) of the particle that had slot predecessor[k],
+/// so refinement changes neither the total force of a traction nor which material is held. A
+/// slot that is its own successor keeps its entries, which now mean the particle there.
+void inherit_loads(ResolvedLoads& loads, const std::vector<std::int32_t>& successor,
+                   const std::vector<std::int32_t>& predecessor);
+
+/// Renumbers every entry: particle i becomes new_index[i].
+void renumber_loads(ResolvedLoads& loads, const std::vector<std::int32_t>& new_index);
+
+}  // namespace dhpd

@@ -1,0 +1,129 @@
+// The edit seam of the stepper (docs/design.md): an editor (refine/) rewrites particles and bond
+// rows; the engine derives interaction rows, constants, stable steps, loads, forces, damage and
+// the energy ledger of what changed; and compaction renumbers everything in Morton order.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "engine/base/errors.hpp"
+#include "engine/physics/bond_loops.hpp"
+#include "engine/simulation.hpp"
+#include "geometry/lattice.hpp"
+
+namespace dhpd {
+
+namespace {
+double seconds_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+}  // namespace
+
+bool Simulation::corrects_interfaces() const {
+  return setup_.interface_correction && setup_.model == ForceModel::DualHorizon;
+}
+
+Simulation::Discretisation Simulation::begin_edit(std::vector<std::int32_t> energy_rows,
+                                                  const std::vector<std::int32_t>& moving) {
+  if (edit_) throw EngineError("begin_edit: an edit is already open");
+  if (setup_.model == ForceModel::ConstantHorizon)
+    throw InputError(
+        "refinement needs per-particle horizons: use model dual-horizon (or classical-variable), "
+        "not constant-horizon");
+  // Unchanged rows give the same bits before and after and cancel: only the named rows count.
+  OpenEdit e;
+  e.energy_before =
+      strain_energy_of_rows(bonds_, p_, C_, energy_rows) + kinetic_energy_of(p_, moving);
+  e.correction_before = verlet_correction();
+  e.energy_rows = std::move(energy_rows);
+  edit_ = std::move(e);
+  return {p_, bonds_, dual_};
+}
+
+void Simulation::particles_written(const std::vector<std::int32_t>& slots) {
+  if (!edit_) throw EngineError("particles_written outside an edit");
+  std::vector<std::int32_t> sorted(slots);
+  std::sort(sorted.begin(), sorted.end());
+  update_bond_constants(sorted);
+  bonds_.rows.grow_rows(p_.size());
+  dual_.rows.grow_rows(p_.size());
+  il_.rows.grow_rows(p_.size());
+}
+
+std::int32_t Simulation::take_ids(std::size_t n) {
+  const std::int32_t first = next_id_;
+  next_id_ += static_cast<std::int32_t>(n);
+  return first;
+}
+
+EditOutcome Simulation::commit_edit(const DiscretisationChange& change,
+                                    std::int64_t broken_bonds_change) {
+  if (!edit_) throw EngineError("commit_edit without begin_edit");
+  EditOutcome out;
+  const auto& dirty = change.changed_rows;
+  broken_ += broken_bonds_change;
+  // The rows the edit touched hold every bond that changed: bonds with both ends among them are
+  // solved again; the others keep their factors, and particles outside keep their bonds, so they
+  // stay consistent (docs/theory.md §4).
+  if (corrects_interfaces())
+    out.interfaces = correct_level_interfaces(bonds_, dual_, p_, C_, dirty);
+  il_.own_slot.resize(bonds_.slots(), -1);
+  il_.dual_slot.resize(bonds_.slots(), -1);
+  for (const auto i : dirty)
+    rebuild_interaction_row(il_, static_cast<std::size_t>(i), setup_.model, bonds_, dual_, p_, C_);
+  particle_time_steps(il_, p_, particle_dt_, &dirty);
+  critical_dt_ = smallest(particle_dt_);  // one double per particle: cheap next to the rebuild
+  // A fixed step stays while it is stable; otherwise the scene's safety applies to the new bound.
+  const bool keep_fixed = setup_.fixed_dt && *setup_.fixed_dt <= critical_dt_;
+  dt_ = keep_fixed ? *setup_.fixed_dt : setup_.safety * critical_dt_;
+  inherit_loads(loads_, change.successor, change.predecessor);
+  enforce_prescribed_velocity();
+  internal_force_density(il_, p_, &dirty);
+  touched_.resize(p_.size(), 0);
+  for (const auto i : dirty) touched_[static_cast<std::size_t>(i)] = 1;
+  for (std::size_t k = 0; k < loads_.loaded.size(); ++k)
+    if (touched_[static_cast<std::size_t>(loads_.loaded[k])])
+      for (int a = 0; a < p_.dim(); ++a)
+        p_.force_density[a][loads_.loaded[k]] += loads_.body_force[k][a];
+  for (const auto i : dirty) touched_[static_cast<std::size_t>(i)] = 0;
+  last_power_ = boundary_power();
+  if (setup_.effects.fracture) compute_damage(bonds_, p_, &change.rewritten_rows);
+  appended_since_compaction_ += p_.size() - change.old_size;
+  ++generation_;
+  // The energy ledger: the named rows again, with the appended particles' rows after them.
+  auto rows = std::move(edit_->energy_rows);
+  for (const auto c : change.new_particles)
+    if (static_cast<std::size_t>(c) >= change.old_size) rows.push_back(c);
+  out.energy_change = strain_energy_of_rows(bonds_, p_, C_, rows) +
+                      kinetic_energy_of(p_, change.new_particles) - edit_->energy_before;
+  // The shadow energy also moves with the new forces and the new dt (a pass over particles only).
+  out.shadow_change = out.energy_change - (verlet_correction() - edit_->correction_before);
+  budget_.mapping += out.shadow_change;
+  edit_.reset();
+  return out;
+}
+
+double Simulation::compact() {
+  const auto start = std::chrono::steady_clock::now();
+  auto t = timers_.scope(Phase::Refine);
+  const std::size_t n = p_.size();
+  std::vector<geometry::Vec3> where(n);
+  for (std::size_t i = 0; i < n; ++i) where[i] = point_of(p_.reference_position, i);
+  const auto order = geometry::morton_order(where, p_.dim());  // order[k]: old index of new k
+  std::vector<std::int32_t> new_index(n);
+  for (std::size_t k = 0; k < n; ++k) new_index[static_cast<std::size_t>(order[k])] = k;
+  p_ = gather(p_, order);
+  bonds_ = renumbered_bonds(bonds_, order, new_index);
+  dual_ = build_dual(bonds_);
+  update_bond_constants();
+  il_ = build_interactions(setup_.model, bonds_, dual_, p_, C_);
+  particle_time_steps(il_, p_, particle_dt_);
+  renumber_loads(loads_, new_index);
+  touched_.assign(n, 0);
+  compute_forces();
+  if (setup_.effects.fracture) compute_damage(bonds_, p_);
+  appended_since_compaction_ = 0;
+  ++layout_version_;
+  return seconds_since(start);
+}
+
+}  // namespace dhpd

@@ -1,0 +1,182 @@
+// The no-healing rule for the bonds of a new generation (dhpd.md §8; IJNME 2016 §5.3).
+#include "refine/no_healing.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "engine/physics/bond_loops.hpp"
+#include "geometry/predicates.hpp"
+
+namespace dhpd::refine {
+
+using geometry::dot;
+using geometry::norm;
+using geometry::Vec3;
+using geometry::operator+;
+using geometry::operator-;
+using geometry::operator*;
+
+Vec3 OldGeneration::position(std::int32_t x) const {
+  if (parent_slot) {
+    const auto k = (*parent_slot)[static_cast<std::size_t>(x)];
+    if (k >= 0) return point_of(parents->reference_position, static_cast<std::size_t>(k));
+  }
+  return point_of(particles.reference_position, static_cast<std::size_t>(x));
+}
+
+bool segments_cross_properly(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+  // Relative tolerance: collinear or touching configurations (lattice points in a row, shared
+  // endpoints) are not proper crossings even when round-off gives them a sign.
+  const double tol = 1e-9 * norm(b - a) * norm(d - c);
+  const double o1 = geometry::orient2d(a, b, c), o2 = geometry::orient2d(a, b, d);
+  const double o3 = geometry::orient2d(c, d, a), o4 = geometry::orient2d(c, d, b);
+  auto opposite = [tol](double x, double y) {
+    return (x > tol && y < -tol) || (x < -tol && y > tol);
+  };
+  return opposite(o1, o2) && opposite(o3, o4);
+}
+
+bool segment_passes_through_tube(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d,
+                                 double tube) {
+  // Closest points of the two lines: a + s (b − a) and c + t (d − c).
+  const Vec3 u = b - a, v = d - c, w = a - c;
+  const double uu = dot(u, u), uv = dot(u, v), vv = dot(v, v), uw = dot(u, w), vw = dot(v, w);
+  const double den = uu * vv - uv * uv;
+  if (!(den > 1e-12 * uu * vv)) return false;  // parallel: no single crossing point
+  const double s = (uv * vw - vv * uw) / den, t = (uu * vw - uv * uw) / den;
+  constexpr double eps = 1e-9;
+  if (s <= eps || s >= 1.0 - eps || t <= eps || t >= 1.0 - eps) return false;
+  return norm((a + s * u) - (c + t * v)) < tube;
+}
+
+OldSegments::OldSegments(const OldGeneration& old, std::vector<std::int32_t> owners)
+    : old_(old), owners_(std::move(owners)), dim_(old.particles.dim()) {
+  const auto& b = old.bonds;
+  for (const auto i : owners_)
+    for (auto k = b.begin(static_cast<std::size_t>(i)); k < b.end(static_cast<std::size_t>(i)); ++k)
+      cell_ = std::max(cell_, b.length[k]);
+  // Bins a quarter of the longest bond wide: a query scans about the volume a crossing bond's
+  // midpoint can lie in, (longest + |a–b|)^dim, instead of 3^dim times the longest bond.
+  max_length_ = cell_;
+  cell_ *= 0.25;
+  for (const auto i : owners_)
+    for (auto k = b.begin(static_cast<std::size_t>(i)); k < b.end(static_cast<std::size_t>(i)); ++k)
+      if (!b.intact[k]) bin(broken_, k);
+}
+
+void OldSegments::bin(Bins& bins, std::int64_t k) const {
+  const auto& b = old_.bonds;
+  const Segment seg{old_.position(b.owner[k]), old_.position(b.neighbor[k]), b.owner[k],
+                    b.neighbor[k]};
+  const Vec3 m = 0.5 * (seg.c + seg.d);
+  std::int64_t c[3] = {0, 0, 0};
+  for (int a = 0; a < dim_; ++a) c[a] = static_cast<std::int64_t>(std::floor(m[a] / cell_));
+  bins[(c[0] * 2147483659LL + c[1]) * 1000003LL + c[2]].push_back(seg);
+}
+
+std::size_t OldSegments::count(const Bins& bins, const Vec3& a, const Vec3& b, std::int32_t skip,
+                               double tube) const {
+  const Vec3 m = 0.5 * (a + b);
+  const double reach = 0.5 * max_length_ + 0.5 * norm(b - a) + tube;
+  std::int64_t lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+  for (int d = 0; d < dim_; ++d) {
+    lo[d] = static_cast<std::int64_t>(std::floor((m[d] - reach) / cell_));
+    hi[d] = static_cast<std::int64_t>(std::floor((m[d] + reach) / cell_));
+  }
+  // Bounding box of a–b grown by the tube: a segment whose box misses it cannot cross.
+  Vec3 box_lo{0, 0, 0}, box_hi{0, 0, 0};
+  for (int d = 0; d < dim_; ++d)
+    box_lo[d] = std::min(a[d], b[d]) - tube, box_hi[d] = std::max(a[d], b[d]) + tube;
+  auto misses = [&](const Segment& s) {
+    for (int d = 0; d < dim_; ++d)
+      if (std::max(s.c[d], s.d[d]) < box_lo[d] || std::min(s.c[d], s.d[d]) > box_hi[d]) return true;
+    return false;
+  };
+  std::size_t n = 0;
+  for (auto cx = lo[0]; cx <= hi[0]; ++cx)
+    for (auto cy = lo[1]; cy <= hi[1]; ++cy)
+      for (auto cz = lo[2]; cz <= hi[2]; ++cz) {
+        const auto it = bins.find((cx * 2147483659LL + cy) * 1000003LL + cz);
+        if (it == bins.end()) continue;
+        for (const auto& s : it->second) {
+          if (s.owner == skip || s.neighbor == skip || misses(s)) continue;
+          n += dim_ == 2 ? segments_cross_properly(a, b, s.c, s.d)
+                         : segment_passes_through_tube(a, b, s.c, s.d, tube);
+        }
+      }
+  return n;
+}
+
+OldSegments::Crossings OldSegments::crossing(const Vec3& a, const Vec3& b, std::int32_t skip,
+                                             double tube, bool count_all) const {
+  Crossings out;
+  if (broken_.empty() || dim_ == 1) return out;
+  out.broken = count(broken_, a, b, skip, tube);
+  if (!count_all || out.broken == 0) return out;
+  if (!all_built_) {
+    const auto& bonds = old_.bonds;
+    for (const auto i : owners_)
+      for (auto k = bonds.begin(static_cast<std::size_t>(i));
+           k < bonds.end(static_cast<std::size_t>(i)); ++k)
+        bin(all_, k);
+    all_built_ = true;
+  }
+  out.all = count(all_, a, b, skip, tube);
+  return out;
+}
+
+namespace {
+
+enum class PairState { None, Intact, Broken };
+
+/// State of the previous bonds between P and Q: P→Q only when `one_way`, else P→Q and Q→P.
+PairState pair_state(const BondList& b, std::int32_t P, std::int32_t Q, bool one_way) {
+  bool found = false, broken = false;
+  for (const auto& [x, y] : {std::pair{P, Q}, std::pair{Q, P}}) {
+    for (auto k = b.begin(static_cast<std::size_t>(x)); k < b.end(static_cast<std::size_t>(x)); ++k)
+      if (b.neighbor[k] == y) found = true, broken = broken || !b.intact[k];
+    if (one_way) break;
+  }
+  return !found ? PairState::None : (broken ? PairState::Broken : PairState::Intact);
+}
+
+}  // namespace
+
+bool starts_broken(const OldGeneration& old, const OldSegments& segments, const Vec3& xi,
+                   const Vec3& xj, std::int32_t P, std::int32_t Q, bool both_unsplit, double tube) {
+  const PairState state = P == Q ? PairState::None : pair_state(old.bonds, P, Q, both_unsplit);
+  if (state != PairState::None) return state == PairState::Broken;
+  const auto c = segments.crossing(xi, xj, P == Q ? P : -1, tube, P == Q);
+  return P == Q ? 2 * c.broken > c.all : c.broken > 0;
+}
+
+bool starts_overstretched(const ParticleStore& p, std::size_t owner, std::size_t neighbor,
+                          double length, double owner_critical_stretch) {
+  return !p.no_fail[owner] && current_stretch(p, owner, neighbor, length) >= owner_critical_stretch;
+}
+
+std::int64_t apply_no_healing(BondList& bonds, const ParticleStore& p,
+                              const std::vector<std::int32_t>& previous,
+                              const std::vector<std::uint8_t>& born, const BondList& old_bonds,
+                              const ParticleStore& old_p) {
+  const OldGeneration old{old_bonds, old_p};
+  std::vector<std::int32_t> all(old_p.size());
+  for (std::size_t i = 0; i < all.size(); ++i) all[i] = static_cast<std::int32_t>(i);
+  const OldSegments segments(old, std::move(all));
+  std::fill(bonds.intact.begin(), bonds.intact.end(), 1);
+  if (!segments.any_broken()) return 0;
+  std::int64_t count = 0;
+  const auto& X = p.reference_position;
+  for (std::size_t i = 0; i < bonds.particles(); ++i)
+    for (auto k = bonds.begin(i); k < bonds.end(i); ++k) {
+      const auto j = static_cast<std::size_t>(bonds.neighbor[k]);
+      const bool cut = starts_broken(
+          old, segments, {X[0][i], X[1][i], X[2][i]}, {X[0][j], X[1][j], X[2][j]}, previous[i],
+          previous[j], !born[i] && !born[j], 0.5 * std::min(p.spacing[i], p.spacing[j]));
+      bonds.intact[k] = cut ? 0 : 1;
+      count += cut ? 1 : 0;
+    }
+  return count;
+}
+
+}  // namespace dhpd::refine

@@ -1,0 +1,40 @@
+// The incremental rebuild of a refinement event (docs/theory.md; IJNME 2016 §5.3): which bond
+// rows an event rewrites, and rewriting them against the previous generation (no healing).
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "engine/simulation.hpp"
+#include "refine/event.hpp"
+#include "refine/split_plan.hpp"
+
+namespace dhpd::refine {
+
+/// One event between its phases (event.cpp and rebuild.cpp only).
+struct EventScratch {
+  SplitPlan plan;
+  ParticleStore parents;             ///< the parents' fields before the split
+  std::vector<std::int32_t> near;    ///< previous-generation owners near the parents (rule b)
+  std::vector<std::int32_t> owners;  ///< bond rows rebuilt, ascending
+  std::vector<std::int32_t> dirty;   ///< interaction rows rewritten, ascending
+  std::int64_t broken_change = 0;    ///< broken bonds after minus before
+  std::vector<std::int32_t>* parent_slot = nullptr;    ///< per slot: index into plan.parents
+  std::vector<std::int32_t>* child_of_slot = nullptr;  ///< per slot: index of its child
+};
+
+/// Owners of the previous generation whose old bonds may cross a new bond (no-healing rule b).
+std::vector<std::int32_t> old_neighbourhood(const Simulation& sim, const SpatialGrid& grid,
+                                            const SplitPlan& plan);
+/// Rows whose energy the event can change (for the energy ledger), ascending.
+std::vector<std::int32_t> event_energy_rows(const Simulation& sim, const SpatialGrid& grid,
+                                            const SplitPlan& plan);
+/// Owners whose rows are rebuilt: the children, the owners of bonds on the parents and the
+/// unsplit particles whose horizon reaches a child; ascending.
+std::vector<std::int32_t> owners_to_rebuild(const Simulation& sim, const SpatialGrid& grid,
+                                            const EventScratch& ev);
+/// Decides the owners' new rows against the previous generation, retires their old bonds from
+/// the dual rows and writes the new ones (ev.dirty: every row that changed).
+void rebuild_rows(const Simulation& sim, Simulation::Discretisation d, const SpatialGrid& grid,
+                  EventScratch& ev, RefinementEvent& out);
+
+}  // namespace dhpd::refine

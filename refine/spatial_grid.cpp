@@ -1,0 +1,89 @@
+// Hashed cell grids per spacing class (see spatial_grid.hpp).
+#include "refine/spatial_grid.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace dhpd::refine {
+
+namespace {
+constexpr std::int64_t kMask = (std::int64_t{1} << 21) - 1;
+
+std::int64_t cell_coordinate(double x, double cell) {
+  return static_cast<std::int64_t>(std::floor(x / cell));
+}
+
+/// 21 bits per axis; far-apart cells that share a key only add candidates (all are
+/// distance-checked, duplicates removed).
+std::int64_t pack(std::int64_t cx, std::int64_t cy, std::int64_t cz) {
+  return ((cx & kMask) << 42) | ((cy & kMask) << 21) | (cz & kMask);
+}
+}  // namespace
+
+SpatialGrid::SpatialGrid(int dim, double base_spacing, double ratio)
+    : dim_(dim), base_(base_spacing), ratio_(ratio) {}
+
+int SpatialGrid::level_of(double spacing) const {
+  return static_cast<int>(std::lround(std::log2(base_ / spacing)));
+}
+
+SpatialGrid::Level& SpatialGrid::level(int k) {
+  auto& l = levels_[k];
+  if (l.cell == 0.0) l.cell = ratio_ * base_ * std::ldexp(1.0, -k);
+  return l;
+}
+
+std::int64_t SpatialGrid::key(const Level& l, const geometry::Vec3& x) const {
+  std::int64_t c[3] = {0, 0, 0};
+  for (int a = 0; a < dim_; ++a) c[a] = cell_coordinate(x[a], l.cell);
+  return pack(c[0], c[1], c[2]);
+}
+
+void SpatialGrid::insert(std::int32_t i, const geometry::Vec3& x, double spacing) {
+  remove(i);
+  if (where_.size() <= static_cast<std::size_t>(i)) where_.resize(static_cast<std::size_t>(i) + 1);
+  const int k = level_of(spacing);
+  auto& l = level(k);
+  auto& e = where_[static_cast<std::size_t>(i)];
+  e = {x, k, key(l, x)};
+  l.cells[e.key].push_back(i);
+}
+
+void SpatialGrid::remove(std::int32_t i) {
+  if (!contains(i)) return;
+  auto& e = where_[static_cast<std::size_t>(i)];
+  auto& cell = levels_.at(e.level).cells.at(e.key);
+  cell.erase(std::find(cell.begin(), cell.end(), i));
+  e.level = kAbsent;
+}
+
+void SpatialGrid::within(const geometry::Vec3& x, double radius, std::vector<std::int32_t>& out,
+                         std::int32_t skip) const {
+  out.clear();
+  const double r2 = radius * radius;
+  for (const auto& [k, l] : levels_) {
+    std::int64_t lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+    for (int a = 0; a < dim_; ++a)
+      lo[a] = cell_coordinate(x[a] - radius, l.cell),
+      hi[a] = cell_coordinate(x[a] + radius, l.cell);
+    for (auto cx = lo[0]; cx <= hi[0]; ++cx)
+      for (auto cy = lo[1]; cy <= hi[1]; ++cy)
+        for (auto cz = lo[2]; cz <= hi[2]; ++cz) {
+          const auto it = l.cells.find(pack(cx, cy, cz));
+          if (it == l.cells.end()) continue;
+          for (const auto j : it->second) {
+            const auto& y = where_[static_cast<std::size_t>(j)].x;
+            double d2 = 0.0;
+            for (int a = 0; a < dim_; ++a) {
+              const double d = x[a] - y[a];
+              d2 += d * d;
+            }
+            if (d2 < r2 && j != skip) out.push_back(j);
+          }
+        }
+  }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+}
+
+}  // namespace dhpd::refine
