@@ -5,52 +5,46 @@ not change a number).
     tools/python/compare_runs.py DIR_A DIR_B [DIR_A2 DIR_B2 ...]
 
 Compares history.csv, cracks.csv and refinement.csv as text, less the columns that measure wall
-time (refinement.csv `seconds`, `resort_seconds`), and every frame named in the .pvd: the same
-arrays with the same bytes. summary.json is compared without its timing keys. Prints one line
+time (refinement.csv `seconds`, `resort_seconds`), and every frame: the same
+arrays with the same bytes (frames are picked by file name, `NAME_NNNNNN.vtu`). summary.json is
+compared without its timing keys and the scene file's path. Prints one line
 per pair and every difference found; exits 0 when all pairs are identical, 1 otherwise, 2 when a
 folder is missing.
 """
-import csv
-import json
 import os
 import sys
 
-import stress_check
+from run_folder import CSV_FILES, WALL_COLUMNS, frame_files, load_summary, read_frame, read_rows
 
-WALL_COLUMNS = {"seconds", "resort_seconds"}
+# Keys that measure the machine or name where the files were, not what was computed.
 WALL_KEYS = {"wall_seconds", "seconds_per_phase", "particle_steps_per_second",
-             "bond_updates_per_second", "estimated_memory_mb", "peak_memory_mb", "output"}
+             "bond_updates_per_second", "estimated_memory_mb", "peak_memory_mb", "output",
+             "scene_file"}
 
 
 def csv_rows(path):
     """The rows of a CSV less its wall-clock columns (None when the file is absent)."""
-    if not os.path.exists(path):
-        return None
-    with open(path, newline="") as f:
-        rows = list(csv.reader(f))
+    rows = read_rows(path)
     if not rows:
         return rows
     keep = [k for k, name in enumerate(rows[0]) if name not in WALL_COLUMNS]
     return [[r[k] for k in keep if k < len(r)] for r in rows]
 
 
-def summary_without_timing(path):
-    if not os.path.exists(path):
-        return None
-    with open(path) as f:
-        s = json.load(f)
-    return {k: v for k, v in s.items() if k not in WALL_KEYS}
+def summary_without_timing(directory):
+    s = load_summary(directory)
+    return None if s is None else {k: v for k, v in s.items() if k not in WALL_KEYS}
 
 
 def frame_differences(a, b):
     """Differences between the frames of two runs (names and arrays, byte for byte)."""
-    fa, fb = stress_check.frame_files(a), stress_check.frame_files(b)
+    fa, fb = frame_files(a), frame_files(b)
     if fa != fb:
         return [f"frames differ: {len(fa)} against {len(fb)}"]
     out = []
     for name in fa:
-        x = stress_check.read_frame(os.path.join(a, name))
-        y = stress_check.read_frame(os.path.join(b, name))
+        x = read_frame(os.path.join(a, name))
+        y = read_frame(os.path.join(b, name))
         if sorted(x) != sorted(y):
             out.append(f"{name}: arrays {sorted(x)} against {sorted(y)}")
             continue
@@ -62,14 +56,13 @@ def frame_differences(a, b):
 
 def differences(a, b):
     out = []
-    for name in ("history.csv", "cracks.csv", "refinement.csv"):
+    for name in CSV_FILES:
         ra, rb = csv_rows(os.path.join(a, name)), csv_rows(os.path.join(b, name))
         if ra != rb:
             first = next((k for k, (p, q) in enumerate(zip(ra or [], rb or [])) if p != q), None)
             out.append(f"{name} differs" + (f" (first at row {first})" if first is not None
                                             else " (presence or length)"))
-    if summary_without_timing(os.path.join(a, "summary.json")) != summary_without_timing(
-            os.path.join(b, "summary.json")):
+    if summary_without_timing(a) != summary_without_timing(b):
         out.append("summary.json differs (timing keys left out)")
     return out + frame_differences(a, b)
 

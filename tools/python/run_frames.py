@@ -1,5 +1,4 @@
-"""The frames of a dhpd run as pictures, for tools/python/plot_run.py: one field per particle, 3D frames
-as their mid-thickness slice."""
+"""Frames of a run as pictures (plot_run.py, plot_frame.py): one field per particle, 3D sliced."""
 import dataclasses
 import glob
 import os
@@ -8,9 +7,8 @@ from dataclasses import dataclass
 
 import matplotlib.pyplot as plt
 import numpy as np
-from vtkmodules import vtkIOXML as vtk_xml
-from vtkmodules.util import numpy_support as vtk_numpy
 
+import run_folder
 from run_data import US, InputError
 
 
@@ -37,11 +35,6 @@ class Frame:
         return f"|{self.field}|" if self.vector else self.field
 
 
-def field_data(grid, name, default):
-    array = grid.GetFieldData().GetArray(name)
-    return array.GetValue(0) if array is not None and array.GetNumberOfTuples() else default
-
-
 def estimated_spacing(points):
     """For frames without a `spacing` field: the spacing of a lattice filling the bounding box."""
     extent = np.ptp(points, axis=0)
@@ -52,25 +45,17 @@ def estimated_spacing(points):
 
 def read_frame(path, name):
     """The positions, field `name`, spacing, time and step of a .vtu frame."""
-    if not os.path.isfile(path):
-        raise InputError(f"{path}: no such frame file")
-    reader = vtk_xml.vtkXMLUnstructuredGridReader()
-    reader.SetFileName(path)
-    reader.Update()
-    grid = reader.GetOutput()
-    data = grid.GetPointData()
-    if data.GetArray(name) is None:
-        names = [data.GetArrayName(k) for k in range(data.GetNumberOfArrays())]
+    arrays, fields = run_folder.read_vtu(path)
+    if name not in arrays or name == "points":
+        names = [k for k in arrays if k != "points"]
         raise InputError(f"{path}: no point field '{name}' (fields: {', '.join(names)})")
-    points = vtk_numpy.vtk_to_numpy(grid.GetPoints().GetData())
-    values = vtk_numpy.vtk_to_numpy(data.GetArray(name))
+    points, values = arrays["points"], arrays[name]
     vector = values.ndim == 2
     if vector:
         values = np.linalg.norm(values, axis=1)
-    spacing = data.GetArray("spacing")
-    spacing = vtk_numpy.vtk_to_numpy(spacing) if spacing is not None else estimated_spacing(points)
-    return Frame(path, name, points, values, spacing, field_data(grid, "TimeValue", float("nan")),
-                 int(field_data(grid, "Step", -1)), vector)
+    spacing = arrays["spacing"] if "spacing" in arrays else estimated_spacing(points)
+    return Frame(path, name, points, values, spacing, fields.get("TimeValue", float("nan")),
+                 int(fields.get("Step", -1)), vector)
 
 
 def mid_slice(frame):

@@ -1,12 +1,13 @@
-"""The Markdown report of a dhpd run directory (`dhpd report`, through tools/python/plot_run.py): the run,
-the scene file's header, the pictures and a table of measured against published numbers
-(summary.json "published"). The run is read by tools/python/plot_run.py (load_run)."""
+"""The Markdown report of a run directory (`dhpd report`, through plot_run.py and run_data.py).
+
+The run, the scene file's header, the pictures and a table of measured against published numbers
+(summary.json "published")."""
 import glob
 import os
 
 import numpy as np
 
-US = 1e6  # seconds to microseconds
+from run_data import US
 
 PER_EVENT_LISTS = ("branch_times", "branch_positions")  # compared by their first element
 UNITS = {"initiation_time": "s", "angle_deg": "°", "max_speed": "m/s", "mean_speed": "m/s",

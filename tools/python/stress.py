@@ -21,18 +21,17 @@ Suite file (YAML):
 """
 import argparse
 import csv
-import json
 import os
 import re
 import shutil
-import subprocess
 import sys
 import time
 
 import yaml
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import stress_check  # noqa: E402  (beside this script)
+import launch  # noqa: E402  (beside this script)
+import stress_check  # noqa: E402
 
 SUITE_KEYS = {"name", "criteria", "cases"}
 CASE_KEYS = {"name", "scene", "set", "sweep", "criteria", "reason", "expect"}
@@ -166,21 +165,16 @@ def load_suite(path):
 
 
 def run_case(dhpd, scene, overrides, out_dir, threads):
-    """One `dhpd run`; returns (exit code, stderr, wall seconds)."""
+    """One `dhpd run` in a fresh folder; returns what launch.run gave (a hang: exit code -1)."""
     shutil.rmtree(out_dir, ignore_errors=True)
-    cmd = [dhpd, "run", scene, "--out", out_dir, "--threads", str(threads), "--quiet"]
-    for key, value in overrides.items():
-        text = json.dumps(value) if isinstance(value, (list, dict)) else str(value)
-        cmd += ["--set", f"{key}={text}"]
-    start = time.monotonic()
     env = dict(os.environ)
     env.setdefault("OMP_WAIT_POLICY", "passive")  # no spinning against the other run's jobs
-    try:
-        proc = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
-                              env=env, timeout=RUN_TIMEOUT_S)
-    except subprocess.TimeoutExpired:
-        return -1, f"stopped after {RUN_TIMEOUT_S} s (a hang?)", time.monotonic() - start
-    return proc.returncode, proc.stderr.strip(), time.monotonic() - start
+    run = launch.run(dhpd, scene, out_dir, overrides, threads, env=env, timeout=RUN_TIMEOUT_S)
+    if run.timed_out:
+        run.stderr = f"stopped after {RUN_TIMEOUT_S} s (a hang?)"
+    else:
+        run.stderr = run.stderr.strip()
+    return run
 
 
 def shown(value):
@@ -235,14 +229,13 @@ def failure_notes(result):
                      if c in result and not result[c]["pass"])
 
 
-def particles_of(out_dir):
+def particles_of(summary):
+    """"N" or "N→M" from a run's summary.json ("" without one)."""
     try:
-        with open(os.path.join(out_dir, "summary.json")) as f:
-            s = json.load(f)
-        return f"{s['particles_start']}→{s['particles_end']}" if s["particles_start"] != \
-            s["particles_end"] else str(s["particles_end"])
-    except (OSError, KeyError, ValueError):
+        start, end = summary["particles_start"], summary["particles_end"]
+    except (TypeError, KeyError):
         return ""
+    return f"{start}→{end}" if start != end else str(end)
 
 
 def run_suite(args):
@@ -255,18 +248,16 @@ def run_suite(args):
     rows, start = [], time.monotonic()
     for name, scene, overrides, criteria, expect, reason in runs:
         dirs = [os.path.join(out, name, f"threads{t}") for t in (1, 2)]
-        codes, walls, errors = [], [], []
-        for d, t in zip(dirs, (1, 2)):
-            code, err, wall = run_case(args.dhpd, scene, overrides, d, t)
-            codes.append(code), walls.append(wall), errors.append(err)
+        launches = [run_case(args.dhpd, scene, overrides, d, t) for d, t in zip(dirs, (1, 2))]
+        codes, walls = [r.code for r in launches], [r.wall for r in launches]
         result = stress_check.check_run(dirs[0], dirs[1], criteria, expect)
         if any(codes):
-            result["status"] = stress_check.verdict(
-                f"exit {codes}", False, " / ".join(e.splitlines()[-1] for e in errors if e))
+            result["status"] = stress_check.verdict(f"exit {codes}", False, " / ".join(
+                r.stderr.splitlines()[-1] for r in launches if r.stderr))
         ok = all(v["pass"] for k, v in result.items() if k != "facts")
         notes = failure_notes(result) or reason
         rows.append({"name": name, "pass": ok, "wall": walls, "result": result, "notes": notes,
-                     "particles": particles_of(dirs[0])})
+                     "particles": particles_of(launches[0].summary)})
         print(f"{name}: {'pass' if ok else 'FAIL ' + notes} ({walls[0]:.1f} s + {walls[1]:.1f} s)",
               flush=True)
     write_report(out, title, rows)

@@ -26,86 +26,38 @@ optionally, with 2 threads (dir_b) and returns one measured value and a verdict 
              broken bonds, particles left with no intact bond (own and dual), refinement levels,
              horizon ratio max/min, steps; a case that stopped being hard fails.
 """
-import csv
-import json
 import math
 import os
-import re
 
 import numpy as np
-import yaml
+
+from run_folder import (CSV_FILES, WALL_COLUMNS, densities, frame_files, load_summary, read_frame,
+                        read_table, run_columns)
 
 DEFAULT_CRITERIA = {"energy_tolerance": 0.01, "momentum_tolerance": 1.0e-9,
                     "momentum_axes": ["x", "y", "z"]}
 EXPECT_KEYS = ["broken_bonds", "isolated_particles", "max_level", "horizon_ratio", "steps"]
-WALL_COLUMNS = {"seconds", "resort_seconds"}
-AXES = {"x": 0, "y": 1, "z": 2}
-
-
-def read_csv(path):
-    """Header and rows (lists of strings) of a CSV file; None when it does not exist."""
-    if not os.path.exists(path):
-        return None
-    with open(path, newline="") as f:
-        rows = list(csv.reader(f))
-    return (rows[0], rows[1:]) if rows else ([], [])
-
-
-def frame_files(out_dir):
-    """The .vtu frames of a run, in order."""
-    return sorted(f for f in os.listdir(out_dir) if re.search(r"_\d+\.vtu$", f))
-
-
-def read_frame(path):
-    """Points and every point-data array of a .vtu frame as numpy arrays."""
-    import vtk
-    from vtk.util.numpy_support import vtk_to_numpy
-
-    reader = vtk.vtkXMLUnstructuredGridReader()
-    reader.SetFileName(path)
-    reader.Update()
-    grid = reader.GetOutput()
-    if grid is None or grid.GetPoints() is None:
-        raise ValueError(f"{path}: not a readable VTK frame")
-    arrays = {"points": vtk_to_numpy(grid.GetPoints().GetData())}
-    data = grid.GetPointData()
-    for k in range(data.GetNumberOfArrays()):
-        arrays[data.GetArrayName(k)] = vtk_to_numpy(data.GetArray(k))
-    return arrays
-
-
-def material_densities(out_dir):
-    """rho of each material in the order of the resolved scene (the frame's material index)."""
-    with open(os.path.join(out_dir, "scene.resolved.yaml")) as f:
-        scene = next(yaml.safe_load_all(f))
-    return np.array([float(m["rho"]) for m in scene["materials"].values()])
 
 
 def history_columns(out_dir):
     """history.csv by column, plus `mapping_energy`: what refinement events added (refinement.csv)
     up to each row, counting the events after the first row (zones refined at step 0 come before
     it and are part of its energy)."""
-    header, rows = read_csv(os.path.join(out_dir, "history.csv"))
-    values = np.array([[float(c) for c in row] for row in rows]) if rows else np.zeros((0, 0))
-    h = {name: values[:, k] for k, name in enumerate(header)} if rows else {}
+    h = run_columns(out_dir, "history.csv")
     if h:
         h["mapping_energy"] = np.zeros(len(h["step"]))
-        events = read_csv(os.path.join(out_dir, "refinement.csv"))
-        header, rows = events if events is not None else ([], [])
-        if "mapping_energy" in header:
-            at = {name: k for k, name in enumerate(header)}
-            for row in rows:
-                step, energy = float(row[at["step"]]), float(row[at["mapping_energy"]])
-                if step > 0:
-                    h["mapping_energy"] += np.where(h["step"] >= step, energy, 0.0)
+        events = run_columns(out_dir, "refinement.csv")
+        for step, energy in zip(events.get("step", []), events.get("mapping_energy", [])):
+            if step > 0:
+                h["mapping_energy"] += np.where(h["step"] >= step, energy, 0.0)
     return h
 
 
 def all_finite_csv(out_dir):
     """Count of non-finite numbers in the run's CSV files."""
     bad = 0
-    for name in ("history.csv", "cracks.csv", "refinement.csv"):
-        table = read_csv(os.path.join(out_dir, name))
+    for name in CSV_FILES:
+        table = read_table(os.path.join(out_dir, name))
         header = table[0] if table else []
         for row in (table[1] if table else []):
             cells = dict(zip(header, row))
@@ -138,7 +90,7 @@ def energy_excess(h):
 
 def scan_frames(out_dir, frames):
     """One pass over every frame: non-finite numbers, max sum m|v|, smallest volume, last frame."""
-    rho = material_densities(out_dir)
+    rho = densities(out_dir)
     scan = {"nonfinite": 0, "momentum_scale": 0.0, "min_volume": math.inf, "last": None}
     for frame in frames:
         f = read_frame(os.path.join(out_dir, frame))
@@ -175,7 +127,7 @@ def hardness_facts(summary, last, h):
 
 def same_csv(dir_a, dir_b, name):
     """'' when the two runs' CSV files agree cell for cell (wall-time columns left out)."""
-    a, b = read_csv(os.path.join(dir_a, name)), read_csv(os.path.join(dir_b, name))
+    a, b = read_table(os.path.join(dir_a, name)), read_table(os.path.join(dir_b, name))
     if a is None and b is None:
         return ""
     if a is None or b is None or a[0] != b[0]:
@@ -206,7 +158,7 @@ def same_frames(dir_a, dir_b):
 
 def reproducibility(dir_a, dir_b):
     """'' when the runs are identical, else what differs first."""
-    for name in ("history.csv", "cracks.csv", "refinement.csv"):
+    for name in CSV_FILES:
         if difference := same_csv(dir_a, dir_b, name):
             return difference
     return same_frames(dir_a, dir_b)
@@ -222,8 +174,7 @@ def check_run(dir_a, dir_b=None, criteria=None, expect=None):
     for required in ("summary.json", "history.csv", "scene.resolved.yaml"):
         if not os.path.exists(os.path.join(dir_a, required)):
             return {"status": verdict("missing", False, f"{dir_a}: no {required}")}
-    with open(os.path.join(dir_a, "summary.json")) as f:
-        summary = json.load(f)
+    summary = load_summary(dir_a)
     frames = frame_files(dir_a)
     if not frames:
         return {"status": verdict(summary.get("status"), False, f"{dir_a}: no frame")}

@@ -59,15 +59,12 @@ import argparse
 import csv
 import itertools
 import json
-import math
 import os
-import subprocess
 import sys
-import time
 
-import numpy as np
 import yaml
 
+import launch
 import study_angles
 from study_metrics import compare, distance_to_polyline, last_frame, tip_paths
 
@@ -159,24 +156,12 @@ def mirror_spread(paths, mirror):
 
 def run_one(dhpd, case, overrides, out_dir, threads):
     """Runs one variant; returns its summary, wall seconds and peak memory (MiB)."""
-    cmd = [dhpd, "run", case, "--out", out_dir, "--quiet"]
-    if threads:
-        cmd += ["--threads", str(threads)]
-    for key, value in overrides.items():
-        text = json.dumps(value) if isinstance(value, (list, dict)) else str(value)
-        cmd += ["--set", f"{key}={text}"]
-    start = time.monotonic()
-    with open(os.devnull, "w") as quiet, subprocess.Popen(
-            cmd, stdout=quiet, stderr=subprocess.PIPE, text=True) as proc:
-        _, status, usage = os.wait4(proc.pid, 0)  # this child's own peak memory
-        wall = time.monotonic() - start
-        proc.returncode = os.waitstatus_to_exitcode(status)
-        errors = proc.stderr.read()
-    if proc.returncode != 0:
-        fail(f"run of {case} with {overrides} failed (exit {proc.returncode}):\n{errors}")
-    with open(os.path.join(out_dir, "summary.json")) as f:
-        summary = json.load(f)
-    return summary, wall, usage.ru_maxrss / 1024.0
+    run = launch.run(dhpd, case, out_dir, overrides, threads)
+    if run.code != 0:
+        fail(f"run of {case} with {overrides} failed (exit {run.code}):\n{run.stderr}")
+    if run.summary is None:
+        fail(f"run of {case} with {overrides} wrote no readable {out_dir}/summary.json")
+    return run.summary, run.wall, run.peak_mib
 
 
 def pareto_front(rows, metric):
@@ -329,6 +314,17 @@ def write_outputs(study, rows, ref_row, out, perturbed=None):
     return best
 
 
+def report_failures(study, rows, perturbed):
+    """Prints every missed criterion; the exit code: 1 when there is one, else 0."""
+    failures = criteria_failures(study, rows + ([perturbed] if perturbed else []))
+    for label, metric, value, limit in failures:
+        what = (" (the reference perturbed: the comparison is ill-posed)"
+                if perturbed and label == perturbed["label"] else "")
+        print(f"dhpd study: {label}: {metric} = {fmt(value)} is not within {limit}{what}",
+              flush=True)
+    return 1 if failures else 0
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("study")
@@ -382,13 +378,7 @@ def main():
     best = write_outputs(study, rows, ref_row, out, perturbed)
     print(f"dhpd study: wrote {out}/study.csv, study.md, pareto.png"
           + (f"; cheapest within budget: {best['label']} ({best['wall_s']:.2f} s)" if best else ""))
-    failures = criteria_failures(study, rows + ([perturbed] if perturbed else []))
-    for label, metric, value, limit in failures:
-        what = (" (the reference perturbed: the comparison is ill-posed)"
-                if perturbed and label == perturbed["label"] else "")
-        print(f"dhpd study: {label}: {metric} = {fmt(value)} is not within {limit}{what}",
-              flush=True)
-    return 1 if failures else 0
+    return report_failures(study, rows, perturbed)
 
 
 if __name__ == "__main__":

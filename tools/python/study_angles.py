@@ -1,12 +1,15 @@
-"""Crack angles of a study's runs (`angles:` in a study file, tools/python/study.py): per run and notch
-tip the early angle (the median chord angle, notch tip to crack tip, over the measurements of
-cracks.csv at which the tip lies between half of `early_distance` and `early_distance` from the
-notch tip: the direction the crack took over its first few horizons, not thrown by one tip that
-jumps between neighbouring particles) and the final chord angle (summary.json), written to
-angles.csv and as a table for study.md."""
+"""Crack angles of a study's runs (`angles:` in a study file, tools/python/study.py).
+
+Per run and notch tip the early angle (the median chord angle, notch tip to crack tip, over the
+measurements of cracks.csv at which the tip lies between half of `early_distance` and
+`early_distance` from the notch tip: the direction the crack took over its first few horizons,
+not thrown by one tip that jumps between neighbouring particles) and the final chord angle
+(summary.json), written to angles.csv and as a table for study.md."""
 import csv
 import os
 import statistics
+
+import run_folder
 
 
 def valid(angles):
@@ -26,14 +29,11 @@ def crack_angles(out_dir, summary, early_distance):
     measurements with the tip between early_distance / 2 and early_distance from the notch tip;
     None when there is none), the final chord angle and distance, and the published angle."""
     rows = {}
-    path = os.path.join(out_dir, "cracks.csv")
-    if os.path.exists(path):
-        with open(path) as f:
-            for row in csv.DictReader(f):
-                tip = rows.setdefault(row["tip"], {"band": [], "distance": 0.0})
-                tip["distance"] = float(row["distance"])
-                if 0.5 * early_distance <= tip["distance"] <= early_distance:
-                    tip["band"].append(float(row["angle_deg"]))
+    for row in run_folder.read_records(os.path.join(out_dir, "cracks.csv")) or []:
+        tip = rows.setdefault(row["tip"], {"band": [], "distance": 0.0})
+        tip["distance"] = float(row["distance"])
+        if 0.5 * early_distance <= tip["distance"] <= early_distance:
+            tip["band"].append(float(row["angle_deg"]))
     published = summary.get("published", {})
     out = []
     for crack in summary.get("cracks", []):

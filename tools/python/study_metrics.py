@@ -10,6 +10,7 @@ import os
 import numpy as np
 from scipy.spatial import cKDTree  # nearest reference particle
 
+import run_folder
 import stress_check
 
 # A particle of a crack (the crack measure's tip threshold, cases/README.md `measure`).
@@ -22,10 +23,9 @@ REFERENCE_DAMAGE = 0.1
 def last_frame(out_dir):
     """Reference positions, volumes, displacement, velocity, damage, material and spacing of the
     run's last frame (None without frames)."""
-    frames = stress_check.frame_files(out_dir)
-    if not frames or not any(f.endswith(".pvd") for f in os.listdir(out_dir)):
+    f = run_folder.last_frame(out_dir)
+    if f is None:
         return None
-    f = stress_check.read_frame(os.path.join(out_dir, frames[-1]))
     u = f["displacement"]
     return {"x": f["points"] - u, "u": u, "v": f.get("velocity"), "volume": f.get("volume"),
             "damage": f.get("damage"), "material": f.get("material"), "spacing": f.get("spacing")}
@@ -33,15 +33,9 @@ def last_frame(out_dir):
 
 def tip_paths(out_dir):
     """Tip positions per tip name from cracks.csv (empty when the scene measures nothing)."""
-    table = stress_check.read_csv(os.path.join(out_dir, "cracks.csv"))
     paths = {}
-    if table is None:
-        return paths
-    header, rows = table
-    at = {name: k for k, name in enumerate(header)}
-    for row in rows:
-        paths.setdefault(row[at["tip"]], []).append(
-            [float(row[at["x"]]), float(row[at["y"]]), float(row[at["z"]])])
+    for row in run_folder.read_records(os.path.join(out_dir, "cracks.csv")) or []:
+        paths.setdefault(row["tip"], []).append([float(row[k]) for k in ("x", "y", "z")])
     return {k: np.array(v) for k, v in paths.items()}
 
 
@@ -156,8 +150,8 @@ def crack_distance(frame, ref):
 
 def broken_bonds_error(out_dir, ref_dir):
     """|B − B_ref| / B_ref of the broken bonds at the end of the runs."""
-    b = stress_check.history_columns(out_dir).get("broken_bonds")
-    br = stress_check.history_columns(ref_dir).get("broken_bonds")
+    b = run_folder.run_columns(out_dir, "history.csv").get("broken_bonds")
+    br = run_folder.run_columns(ref_dir, "history.csv").get("broken_bonds")
     if b is None or br is None or len(b) == 0 or len(br) == 0 or br[-1] == 0:
         return None
     return abs(float(b[-1]) - float(br[-1])) / float(br[-1])
@@ -168,7 +162,7 @@ def momentum_drift(out_dir, frame):
     h = stress_check.history_columns(out_dir)
     if frame is None or frame["v"] is None or not h:
         return None
-    rho = stress_check.material_densities(out_dir)
+    rho = run_folder.densities(out_dir)
     mass = rho[frame["material"].astype(int)] * frame["volume"]
     scale = float(np.sum(mass * np.linalg.norm(np.atleast_2d(frame["v"].T).T, axis=1)))
     return stress_check.momentum_drift(h, scale, ["x", "y", "z"]) if scale > 0 else None
