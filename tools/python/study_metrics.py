@@ -26,8 +26,8 @@ def last_frame(out_dir):
     f = run_folder.last_frame(out_dir)
     if f is None:
         return None
-    u = f["displacement"]
-    return {"x": f["points"] - u, "u": u, "v": f.get("velocity"), "volume": f.get("volume"),
+    # A frame's points are the reference positions (tools/output/frame_fields.cpp).
+    return {"x": f["points"], "u": f["displacement"], "v": f.get("velocity"), "volume": f.get("volume"),
             "damage": f.get("damage"), "material": f.get("material"), "spacing": f.get("spacing")}
 
 
