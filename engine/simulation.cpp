@@ -1,4 +1,4 @@
-// Set-up and velocity-Verlet stepping of bond-based DH-PD (dhpd.md §3–5, §7).
+// Set-up and velocity-Verlet stepping of bond-based DH-PD (docs/theory.md §4, §8–10).
 #include "engine/simulation.hpp"
 #include "engine/base/parallel.hpp"
 

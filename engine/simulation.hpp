@@ -51,7 +51,7 @@ struct SimulationSetup {
   double energy_tolerance = 0.01;
   /// Stiffness factors on the bonds near horizon jumps so that a homogeneous deformation puts no
   /// force there (interface_consistency.hpp; dual-horizon only). Off: the papers' DH-PD, whose
-  /// level interfaces carry a force layer 0.5–0.8 times a free surface's (docs/theory.md §4).
+  /// level interfaces carry a force layer 0.5–0.8 times a free surface's (docs/theory.md §14).
   bool interface_correction = true;
 };
 
@@ -183,7 +183,7 @@ class Simulation {
   InteractionList il_;
   ResolvedLoads loads_;
   std::vector<double> C_, s0_;
-  std::vector<double> particle_dt_;  ///< stable step of each particle's row (dhpd.md §5)
+  std::vector<double> particle_dt_;  ///< stable step of each particle's row (docs/theory.md §9)
   double reach_ = 0.0;               ///< upper bound on radii (exact) for bond searches
   double max_horizon_ = 0.0;         ///< upper bound on every horizon
   std::size_t appended_since_compaction_ = 0;

@@ -63,7 +63,7 @@ EditOutcome Simulation::commit_edit(const DiscretisationChange& change,
   broken_ += broken_bonds_change;
   // The rows the edit touched hold every bond that changed: bonds with both ends among them are
   // solved again; the others keep their factors, and particles outside keep their bonds, so they
-  // stay consistent (docs/theory.md §4).
+  // stay consistent (docs/theory.md §14).
   if (corrects_interfaces())
     out.interfaces = correct_level_interfaces(bonds_, dual_, p_, C_, dirty);
   il_.own_slot.resize(bonds_.slots(), -1);

@@ -1,4 +1,5 @@
-// Segment–segment (2D) and segment–planar-polygon (3D) crossing tests for pre-cracks (dhpd.md §7).
+// Segment–segment (2D) and segment–planar-polygon (3D) crossing tests for pre-cracks
+// (docs/theory.md §8).
 #include "geometry/crack.hpp"
 
 #include "geometry/predicates.hpp"

@@ -1,5 +1,6 @@
 // Pre-cracks as geometry: a bond whose reference segment crosses a crack is never created
-// (dhpd.md §7). 2D cracks are segments, 3D cracks planar polygons (3 or more corners in order).
+// (docs/theory.md §8). 2D cracks are segments, 3D cracks planar polygons (3 or more corners in
+// order).
 #pragma once
 #include <functional>
 #include <vector>

@@ -1,4 +1,4 @@
-// Ball–ball overlap measures (CMAME 2017 App. A, eqs. A.2 and A.3; dhpd.md §6). The case is
+// Ball–ball overlap measures (CMAME 2017 App. A, eqs. A.2 and A.3; docs/theory.md §7). The case is
 // decided with CGAL's interval arithmetic and, when an interval straddles zero, exact rationals.
 #include "geometry/intersection.hpp"
 

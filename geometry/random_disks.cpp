@@ -1,4 +1,4 @@
-// Random sequential addition of disks (CMAME 2017 §5.2 inclusion layouts; cases/README.md,
+// Random sequential addition of disks (CMAME 2017 §5.2 inclusion layouts; docs/scenes.md,
 // "Shapes", random-disks).
 #include "geometry/random_disks.hpp"
 

@@ -1,6 +1,6 @@
-// A refinement event through the engine's edit seam (dhpd.md §8; IJNME 2016 §5.3): split, rebuild
-// the touched rows incrementally, no healing; the engine derives the rest; and the occasional
-// compaction when appended particles or garbage bonds pile up.
+// A refinement event through the engine's edit seam (docs/theory.md §13.6; IJNME 2016 §5.3): split,
+// rebuild the touched rows incrementally, no healing; the engine derives the rest; and the
+// occasional compaction when appended particles or garbage bonds pile up.
 #include "refine/event.hpp"
 
 #include <algorithm>

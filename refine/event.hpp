@@ -1,4 +1,4 @@
-// One refinement event (IJNME 2016 §5.3; docs/theory.md): split the parents into children with
+// One refinement event (IJNME 2016 §5.3; docs/theory.md §13): split the parents into children with
 // mapped state, rebuild the touched bond rows incrementally under the no-healing rule, and hand
 // the change to the engine through its edit seam.
 #pragma once

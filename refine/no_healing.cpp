@@ -1,4 +1,4 @@
-// The no-healing rule for the bonds of a new generation (dhpd.md §8; IJNME 2016 §5.3).
+// The no-healing rule for the bonds of a new generation (docs/theory.md §13.5; IJNME 2016 §5.3).
 #include "refine/no_healing.hpp"
 
 #include <algorithm>

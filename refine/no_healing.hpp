@@ -1,6 +1,6 @@
-// The no-healing rule of refinement (dhpd.md §8; IJNME 2016 §5.3: a crack must not close when its
-// surroundings are refined): which bonds of a new generation start broken, decided from the broken
-// bonds of the previous generation. One rule, used by the incremental event and by the
+// The no-healing rule of refinement (docs/theory.md §13.5; IJNME 2016 §5.3: a crack must not close
+// when its surroundings are refined): which bonds of a new generation start broken, decided from
+// the broken bonds of the previous generation. One rule, used by the incremental event and by the
 // from-scratch reference the tests compare it with.
 #pragma once
 #include <cstdint>
@@ -92,7 +92,7 @@ std::int64_t apply_no_healing(BondList& bonds, const ParticleStore& p,
 /// broken when the mapped state already stretches it to its owner's critical stretch or beyond,
 /// s = |y_j − y_i| / |ξ| − 1 ≥ s0_i (what the next fracture pass would do; decided here so that
 /// the event log counts it as `started_overstretched`). Owners flagged no_fail never start broken.
-/// The state mapping keeps this at zero where the parents' field is linear (cases/README.md).
+/// The state mapping keeps this at zero where the parents' field is linear (docs/scenes.md).
 bool starts_overstretched(const ParticleStore& p, std::size_t owner, std::size_t neighbor,
                           double length, double owner_critical_stretch);
 

@@ -1,5 +1,5 @@
-// The incremental rebuild of a refinement event (dhpd.md §1, §8; IJNME 2016 §5.3): only the
-// children and the owners of bonds on the parents (or within reach of a child) get new bond
+// The incremental rebuild of a refinement event (docs/theory.md §2, §13.6; IJNME 2016 §5.3): only
+// the children and the owners of bonds on the parents (or within reach of a child) get new bond
 // rows; the dual rows of their neighbours are patched; no-healing decides the new bonds' states.
 #include "refine/rebuild.hpp"
 

@@ -1,4 +1,4 @@
-// Parent selection for refinement events: buffer, grading, level limit (dhpd.md §8).
+// Parent selection for refinement events: buffer, grading, level limit (docs/theory.md §13.2).
 #include "refine/refiner.hpp"
 
 #include <algorithm>

@@ -1,5 +1,5 @@
 // The refiner: triggers + buffer + grading + level limit pick the parents of an event, which the
-// Simulation then applies (dhpd.md §8; IJNME 2016 §5.3).
+// Simulation then applies (docs/theory.md §13.2; IJNME 2016 §5.3).
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -11,7 +11,7 @@
 
 namespace dhpd::refine {
 
-/// The triggers of a scene that names none (cases/README.md, `effects.refinement`): cracks
+/// The triggers of a scene that names none (docs/scenes.md, `effects.refinement`): cracks
 /// (φ ≥ 0.05) and bonds at half their critical stretch anywhere, so a notch tip, a hole's rim or a
 /// spall plane is refined while its bonds are still intact (issue 12: measured on the edge-crack,
 /// hole and branching plates against their uniform fine runs).

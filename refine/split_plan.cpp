@@ -1,5 +1,5 @@
-// Children of a refinement event: layout, mapped state, field registry (dhpd.md §8; IJNME 2016
-// §5.3).
+// Children of a refinement event: layout, mapped state, field registry (docs/theory.md §13.3; IJNME
+// 2016 §5.3).
 #include "refine/split_plan.hpp"
 
 #include <algorithm>

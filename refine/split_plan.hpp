@@ -1,5 +1,5 @@
-// The particle side of one refinement event (dhpd.md §8; IJNME 2016 §5.3): which children each
-// parent gets, where their state comes from, and writing them into the store through the field
+// The particle side of one refinement event (docs/theory.md §13.3; IJNME 2016 §5.3): which children
+// each parent gets, where their state comes from, and writing them into the store through the field
 // registry. The bond side is rebuild.* and no_healing.*; the event itself event.*.
 #pragma once
 #include <cstdint>
@@ -16,7 +16,8 @@
 
 namespace dhpd::refine {
 
-/// Offsets of the 2^dim children of a cell of spacing `dx`: ±dx/4 on each axis (dhpd.md §8).
+/// Offsets of the 2^dim children of a cell of spacing `dx`: ±dx/4 on each axis (docs/theory.md
+/// §13.3).
 std::vector<geometry::Vec3> child_offsets(int dim, double dx);
 
 /// Where children may go: inside the body (when its shape is known). A child across a pre-crack

@@ -1,5 +1,6 @@
 // Children's displacement and velocity at a refinement event: copy (IJNME 2016 §5.3) or
-// least-squares fits over the parent's intact bonds (cases/README.md `mapping`; dhpd.md §8).
+// least-squares fits over the parent's intact bonds (docs/scenes.md `mapping`; docs/theory.md
+// §13.4).
 #include "refine/state_mapping.hpp"
 
 #include <Eigen/Dense>

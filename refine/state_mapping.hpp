@@ -1,5 +1,5 @@
-// How children of a refinement event get their displacement and velocity (dhpd.md §8; IJNME 2016
-// §5.3 copies the parent's; the least-squares forms are ours, derived in cases/README.md
+// How children of a refinement event get their displacement and velocity (docs/theory.md §13.4;
+// IJNME 2016 §5.3 copies the parent's; the least-squares forms are ours, derived in docs/scenes.md
 // `mapping`): fits over the parent's intact own bonds, exact for linear (or quadratic) fields.
 #pragma once
 #include <cstddef>

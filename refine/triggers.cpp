@@ -1,4 +1,5 @@
-// Refinement triggers (dhpd.md §8; IJNME 2016 §5.3 refines where damage or energy is high).
+// Refinement triggers (docs/theory.md §13.1; IJNME 2016 §5.3 refines where damage or energy is
+// high).
 #include "refine/triggers.hpp"
 
 #include <algorithm>

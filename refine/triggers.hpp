@@ -1,5 +1,5 @@
-// Refinement triggers (dhpd.md §8; IJNME 2016 §5.3): damage, strain-energy density relative to
-// the critical energy density, and bond stretch relative to the critical stretch.
+// Refinement triggers (docs/theory.md §13.1; IJNME 2016 §5.3): damage, strain-energy density
+// relative to the critical energy density, and bond stretch relative to the critical stretch.
 #pragma once
 #include <cstdint>
 #include <optional>

@@ -1,5 +1,5 @@
-// Calibration of C(δ) and s0(δ) (dhpd.md §4; IJNME 2016 §3.3): strain energy under uniform
-// isotropic strain, fracture energy identities, and the stable time step (dhpd.md §5).
+// Calibration of C(δ) and s0(δ) (docs/theory.md §6; IJNME 2016 §3.3): strain energy under uniform
+// isotropic strain, fracture energy identities, and the stable time step (docs/theory.md §9).
 #include <gtest/gtest.h>
 
 #include <numbers>

@@ -1,6 +1,6 @@
 // The shipped paper cases that are cheap enough for every test run, each with the numbers the
 // issue asks for (IJNME 2016 §5.2–5.3; Ha & Bobaru 2010; Bobaru & Zhang 2015). The 3D and
-// uniform-fine cases run by hand or through `dhpd study` (README).
+// uniform-fine cases run by hand or through `dhpd study` (docs/verification.md).
 #include "tests/cli_support.hpp"
 
 namespace {
@@ -62,7 +62,7 @@ TEST_F(PaperCase, BranchingPlateBranchesAndBothParameterSetsAgree) {
               t_uniform * 1e6, t_bz * 1e6, t_adaptive * 1e6);
   EXPECT_NEAR(t_uniform, 24.5e-6, 0.2 * 24.5e-6);  // IJNME 2016 §5.3.2, uniform
   // The paper's adaptive plate branches at 19.4 µs, 21 % before its uniform one; ours follows
-  // its uniform 0.5 mm plate (README, Verification: the paper's copy mapping).
+  // its uniform 0.5 mm plate (docs/verification.md: the paper's copy mapping).
   EXPECT_NEAR(t_adaptive, t_uniform, 0.05 * t_uniform);
   EXPECT_NEAR(t_bz, t_uniform, 0.05 * t_uniform);  // same load over bond strength
   for (const json* s : {&ijnme, &bz, &adaptive})

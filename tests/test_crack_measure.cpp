@@ -1,6 +1,6 @@
-// Crack measurements (IJNME 2016 eq. 59; dhpd.md §9) on damage fields painted by hand: a straight
-// crack at 30° growing at known rates, a Y-shaped fork, a damaged blob away from the notch, a
-// store that is refined between measurements; and the `measure` block of a scene.
+// Crack measurements (IJNME 2016 eq. 59; docs/theory.md §15) on damage fields painted by hand: a
+// straight crack at 30° growing at known rates, a Y-shaped fork, a damaged blob away from the
+// notch, a store that is refined between measurements; and the `measure` block of a scene.
 #include <gtest/gtest.h>
 
 #include <cmath>

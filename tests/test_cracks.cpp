@@ -1,4 +1,5 @@
-// Pre-cracks (dhpd.md §7): no bond crosses a crack; a plate pulled apart opens only along it.
+// Pre-cracks (docs/theory.md §8): no bond crosses a crack; a plate pulled apart opens only along
+// it.
 #include <gtest/gtest.h>
 
 #include <array>

@@ -86,8 +86,8 @@ TEST(Guard, CreatedEnergyStopsTheRunNamingTheParticle) {
 }
 
 /// A 1D bar of two materials (two spacings) with a velocity pulse: the stable-step estimate
-/// (dhpd.md §5) is tight in 1D, so 1.5 x it is unstable (in 2D the estimate is conservative by
-/// more than 1.5).
+/// (docs/theory.md §9) is tight in 1D, so 1.5 x it is unstable (in 2D the estimate is conservative
+/// by more than 1.5).
 SimulationSetup pulsed_bar() {
   SimulationSetup s;
   s.section = {1, PlaneMode::Stress, 1, 1e-4};

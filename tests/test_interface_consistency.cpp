@@ -1,4 +1,4 @@
-// Consistent level interfaces (docs/theory.md §4): under a homogeneous deformation the papers'
+// Consistent level interfaces (docs/theory.md §14): under a homogeneous deformation the papers'
 // DH-PD puts a force layer on a horizon jump; the stiffness factors remove it, in 1D, 2D and 3D,
 // at the start and after refinement events, while momentum stays exact.
 #include <gtest/gtest.h>

@@ -39,7 +39,7 @@ TEST_P(MomentumTest, DualHorizonBalancesAndClassicalVariableDoesNot) {
 
 INSTANTIATE_TEST_SUITE_P(Dimensions, MomentumTest, ::testing::Values(1, 2, 3));
 
-// Scatter reference: compute each bond once and add it to both ends (dhpd.md §3).
+// Scatter reference: compute each bond once and add it to both ends (docs/theory.md §4).
 TEST(GatherVersusScatter, SameForcesOnVaryingHorizons) {
   for (int dim : {2, 3}) {
     auto p = test::random_cloud(dim, 400, dim == 2 ? 0.01 : 0.03, 10.0, 3.015, 7);

@@ -1,5 +1,5 @@
-// Exact partial volumes (CMAME 2017 App. A, eqs. A.2, A.3; dhpd.md §6): ball overlap measures,
-// their degenerate cases, Monte Carlo agreement, lattice quadrature, energy and momentum.
+// Exact partial volumes (CMAME 2017 App. A, eqs. A.2, A.3; docs/theory.md §7): ball overlap
+// measures, their degenerate cases, Monte Carlo agreement, lattice quadrature, energy and momentum.
 #include <gtest/gtest.h>
 
 #include <cfloat>

@@ -1,4 +1,4 @@
-// Refinement events (dhpd.md §8; IJNME 2016 §5.3): conservation through a split, refining
+// Refinement events (docs/theory.md §13; IJNME 2016 §5.3): conservation through a split, refining
 // everything at t = 0 equals starting fine, no healing, triggers and grading.
 #include <gtest/gtest.h>
 

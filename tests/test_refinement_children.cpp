@@ -216,7 +216,8 @@ TEST(RefinementChildren, DamageChangesThroughAnEventOnlyAsDocumented) {
   // Unsplit particles keep every bond to unsplit neighbours with its state, and their bonds to
   // children inherit the state of the bond to the parent, so their damage can only move by what
   // a horizon newly reaching a child adds. Children get the broken fraction of their own,
-  // smaller horizon (dhpd.md §8): that is the documented remapping of the parent's damage.
+  // smaller horizon (docs/theory.md §13.3): that is the documented remapping of the parent's
+  // damage.
   auto s = test::pulled_cracked_plate(0.5e-3);
   s.resort_fraction = 0.0;  // keep slots: children are compared with their parents by slot
   Simulation sim(s);

@@ -1,4 +1,4 @@
-// The state mapping of a refinement event (issue 12; cases/README.md `mapping`): linear fields are
+// The state mapping of a refinement event (issue 12; docs/scenes.md `mapping`): linear fields are
 // reproduced at every child and momentum is exact; a strained body is refined without breaking a
 // bond; a bond the mapped state stretches to s0 starts broken and is counted; loads follow the
 // parents.
@@ -195,7 +195,7 @@ TEST(RefinementMapping, AStrainedBodyIsRefinedWithoutBreakingABond) {
 TEST(RefinementMapping, TheNextFiftyStepsBreakNoMoreBondsThanWithoutTheEvent) {
   // After the event the body must stay as close to equilibrium as it was. The papers' DH-PD puts
   // a force layer on a level interface under a uniform strain (the children's dual horizons do
-  // not cover the coarse side; docs/theory.md §4), and, created suddenly, it breaks bonds from
+  // not cover the coarse side; docs/theory.md §14), and, created suddenly, it breaks bonds from
   // about 0.5 s0 on; the interface correction removes that layer.
   const double s0 = Simulation(test::plate(1e-3, 0.03, 0.03)).critical_stretch()[0];
   for (const bool correction : {true, false}) {

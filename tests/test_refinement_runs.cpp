@@ -1,4 +1,5 @@
-// Refinement over whole runs (dhpd.md §8): momentum through dozens of events, and the 3D split.
+// Refinement over whole runs (docs/theory.md §13): momentum through dozens of events, and the 3D
+// split.
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -1,6 +1,6 @@
 // Checkpoints: the whole state of a Simulation as bytes, and the versioned, checksummed file that
-// carries it with the scene text and the caller's own run state (README, "Checkpoint and
-// restart"). Restoring into a Simulation built from the same setup continues bit for bit.
+// carries it with the scene text and the caller's own run state (docs/checkpoint.md). Restoring
+// into a Simulation built from the same setup continues bit for bit.
 //
 // File layout (native byte order, refused on a machine of the other order):
 //   "DHPDCKPT" | u32 format version | u32 0x01020304 | u64 payload bytes | u64 checksum of payload

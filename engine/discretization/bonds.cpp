@@ -1,4 +1,5 @@
-// Bond and dual-bond construction (dhpd.md §1; §6 = CMAME 2017 eq. A.1 and App. A; §7 pre-cracks).
+// Bond and dual-bond construction (docs/theory.md §2; §7 = CMAME 2017 eq. A.1 and App. A; §8
+// pre-cracks).
 #include "engine/discretization/bonds.hpp"
 #include "engine/base/parallel.hpp"
 

@@ -1,4 +1,4 @@
-// Bonds in flat CSR per owner plus the dual-horizon lists (dhpd.md §1, §6, §7).
+// Bonds in flat CSR per owner plus the dual-horizon lists (docs/theory.md §2, §7, §8).
 // Bond b (owner i, neighbour j) is created for every j with β_ij > 0 whose reference segment
 // crosses no crack: j in H_i for none/linear, and up to δ_i + r_j for exact (a particle partly
 // inside the horizon). The dual list of j holds the ids of the bonds others own on j.
@@ -50,8 +50,8 @@ struct DualList {
   void remove(std::size_t j, BondId b);
 };
 
-/// Partial-volume factor β for a neighbour at distance `distance` with radius r_j (dhpd.md §6):
-/// r_j = Δx_j/2 for linear, the equal-measure radius for exact; unused by none.
+/// Partial-volume factor β for a neighbour at distance `distance` with radius r_j (docs/theory.md
+/// §7): r_j = Δx_j/2 for linear, the equal-measure radius for exact; unused by none.
 double partial_volume_factor(PartialVolume rule, int dim, double distance, double horizon,
                              double r_j);
 

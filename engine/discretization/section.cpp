@@ -1,4 +1,5 @@
-// Names of the run-wide choices, as the scene file spells them; section measures (dhpd.md §6).
+// Names of the run-wide choices, as the scene file spells them; section measures (docs/theory.md
+// §7).
 #include "engine/discretization/section.hpp"
 
 #include <cmath>

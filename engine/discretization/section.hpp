@@ -9,7 +9,7 @@ enum class ForceModel {
   ConstantHorizon,    ///< classical BB-PD, one δ everywhere, micromodulus 2C(δ)
   ClassicalVariable,  ///< classical BB-PD with each particle's own δ_i and no dual: ghost forces
 };
-/// β_ij rule of dhpd.md §6: none, linear (CMAME 2017 eq. A.1), exact (App. A, ball overlap).
+/// β_ij rule of docs/theory.md §7: none, linear (CMAME 2017 eq. A.1), exact (App. A, ball overlap).
 enum class PartialVolume { None, Linear, Exact };
 enum class PlaneMode { Stress, Strain };
 
@@ -32,7 +32,7 @@ struct Section {
   double cell_of_volume(double volume) const {
     return dim == 1 ? volume / area : (dim == 2 ? volume / thickness : volume);
   }
-  /// Radius of the interval, disk or ball with the particle's cell measure (dhpd.md §6):
+  /// Radius of the interval, disk or ball with the particle's cell measure (docs/theory.md §7):
   /// V/(2A) in 1D (Δx/2 on a lattice), sqrt(A_cell/π) in 2D, (3V/(4π))^(1/3) in 3D.
   double equal_measure_radius(double volume) const;
   /// Volume of a full horizon of radius δ: 2δA in 1D, πδ²h in 2D, 4/3 πδ³ in 3D.

@@ -1,4 +1,5 @@
-// Bond loops (dhpd.md §3, §5, §7). Hot loops: flat arrays, no allocation, no virtual calls.
+// Bond loops (docs/theory.md §3, §4, §8, §9). Hot loops: flat arrays, no allocation, no virtual
+// calls.
 #include "engine/physics/bond_loops.hpp"
 #include "engine/base/parallel.hpp"
 

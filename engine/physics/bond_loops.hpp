@@ -1,6 +1,6 @@
 // Per-step loops over bonds: internal force, bond breaking, damage, strain energy, stable step.
-// Formulas: dhpd.md §3 (force), §5 (stable step), §6 (quadrature), §7 (damage); IJNME 2016 eqs.
-// 27, 44.
+// Formulas: docs/theory.md §4 (force), §9 (stable step), §7 (quadrature), §8 (damage); IJNME 2016
+// eqs. 27, 44.
 #pragma once
 #include <cmath>
 #include <cstdint>
@@ -12,8 +12,8 @@
 
 namespace dhpd {
 
-/// Stretch of bond i→j of reference length `length` in the current configuration (dhpd.md §2),
-/// summed in the order the force and fracture kernels use, so it gives their bits.
+/// Stretch of bond i→j of reference length `length` in the current configuration (docs/theory.md
+/// §3), summed in the order the force and fracture kernels use, so it gives their bits.
 inline double current_stretch(const ParticleStore& p, std::size_t i, std::size_t j, double length) {
   double l2 = 0.0;
   for (int a = 0; a < p.dim(); ++a) {
@@ -34,7 +34,7 @@ void internal_force_density(const InteractionList& il, ParticleStore& p,
 std::int64_t break_bonds(BondList& bonds, InteractionList& il, const ParticleStore& p,
                          const std::vector<double>& critical_stretch);
 
-/// φ_i = 1 − Σ μ β V_j / Σ β V_j over own bonds (dhpd.md §7); written to p.damage.
+/// φ_i = 1 − Σ μ β V_j / Σ β V_j over own bonds (docs/theory.md §8); written to p.damage.
 /// With `rows`, only those particles are updated.
 void compute_damage(const BondList& bonds, ParticleStore& p,
                     const std::vector<std::int32_t>* rows = nullptr);
@@ -47,13 +47,14 @@ double strain_energy_of_rows(const BondList& bonds, const ParticleStore& p,
                              const std::vector<double>& micromodulus,
                              const std::vector<std::int32_t>& rows);
 
-/// Quadrature diagnostic (V_i + Σ_{j∈H_i} β_ij V_j) / |ball(δ_i)| (dhpd.md §6), over all own
+/// Quadrature diagnostic (V_i + Σ_{j∈H_i} β_ij V_j) / |ball(δ_i)| (docs/theory.md §7), over all own
 /// bonds of the reference configuration (broken ones included; pre-cracked pairs have no bond).
 /// 1 for a perfect quadrature of an interior particle's horizon.
 void horizon_quadrature(const BondList& bonds, const ParticleStore& p, const Section& section,
                         std::vector<double>& out);
 
-/// Largest stable step per dhpd.md §5: min_i sqrt(2 ρ_i / Σ_k K_k β_k V_k / |ξ_k|) (no safety).
+/// Largest stable step per docs/theory.md §9: min_i sqrt(2 ρ_i / Σ_k K_k β_k V_k / |ξ_k|) (no
+/// safety).
 double critical_time_step(const InteractionList& il, const ParticleStore& p);
 
 /// The same bound per particle (infinite for a particle without bonds), resized to the store;

@@ -1,4 +1,4 @@
-// The per-particle interaction rows that the force kernel gathers over (dhpd.md §3).
+// The per-particle interaction rows that the force kernel gathers over (docs/theory.md §4).
 // Row i lists every bond that pushes on i: for dual-horizon its own bonds (coefficient C(δ_i) β_ij
 // V_j) followed by its dual bonds (C(δ_j) β_ji V_j); for the classical models only its own bonds
 // with 2C(δ_i) β_ij V_j. The kernel is the same loop for every model: the model only decides the

@@ -1,5 +1,5 @@
-// Consistent level interfaces: per-bond stiffness factors from a minimum-change solve (docs/
-// theory.md §4), by a matrix-free conjugate gradient with block-Jacobi preconditioning.
+// Consistent level interfaces: per-bond stiffness factors from a minimum-change solve
+// (docs/theory.md §14), by a matrix-free conjugate gradient with block-Jacobi preconditioning.
 #include "engine/physics/interface_consistency.hpp"
 
 #include <Eigen/Dense>

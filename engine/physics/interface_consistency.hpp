@@ -1,4 +1,4 @@
-// Consistent level interfaces (docs/theory.md §4): per-bond stiffness factors that cancel the
+// Consistent level interfaces (docs/theory.md §14): per-bond stiffness factors that cancel the
 // force dual-horizon PD puts on particles near a horizon jump under any homogeneous deformation,
 // while every bond force stays a pair of equal and opposite forces (momentum stays exact).
 #pragma once

@@ -1,5 +1,5 @@
-// Bond-based DH-PD constants for a constant influence function (dhpd.md §4; IJNME 2016 eqs. 40–43,
-// CMAME 2017 §5). C(δ) is half the classical micromodulus c; s0 from the fracture energy G0.
+// Bond-based DH-PD constants for a constant influence function (docs/theory.md §6; IJNME 2016 eqs.
+// 40–43, CMAME 2017 §5). C(δ) is half the classical micromodulus c; s0 from the fracture energy G0.
 #pragma once
 #include <cmath>
 #include <numbers>

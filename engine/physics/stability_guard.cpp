@@ -1,4 +1,4 @@
-// Instability guard (dhpd.md §5 stable step, §7 energy balance): checks and the message.
+// Instability guard (docs/theory.md §9 stable step, §12 energy balance): checks and the message.
 #include "engine/physics/stability_guard.hpp"
 
 #include <fmt/format.h>

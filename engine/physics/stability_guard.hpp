@@ -1,6 +1,6 @@
 // Instability guard: a non-finite state, or kinetic + strain energy above the energy balance
-// E_0 + W_ext + W_map by more than a tolerance of its scale (dhpd.md §7; explicit Verlet is
-// stable only below the stable step, dhpd.md §5, and grows exponentially above it).
+// E_0 + W_ext + W_map by more than a tolerance of its scale (docs/theory.md §12; explicit Verlet is
+// stable only below the stable step, docs/theory.md §9, and grows exponentially above it).
 #pragma once
 #include <cstdint>
 #include <string>

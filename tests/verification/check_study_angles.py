@@ -14,7 +14,7 @@ the study's early_distance from the notch tip).
   --same-particles A B  A and B ran on the same number of particles (one point set).
   --report-closer, --report-asymmetric  the same comparisons, printed but not asserted: orderings
                       the paper shows that this study does not reproduce on every mesh (the
-                      numbers are in cases/README.md).
+                      numbers are in cases/README.md and docs/verification.md).
 The study takes minutes, so the ctest entry carries the label `verification`.
 """
 import argparse

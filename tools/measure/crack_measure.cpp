@@ -1,4 +1,5 @@
-// Crack tip, speed, angle and branching from the damage field (IJNME 2016 eq. 59–60; dhpd.md §9).
+// Crack tip, speed, angle and branching from the damage field (IJNME 2016 eq. 59–60; docs/theory.md
+// §15).
 #include "tools/measure/crack_measure.hpp"
 
 #include <algorithm>

@@ -1,5 +1,5 @@
 // Crack measurements from the damage field: tip, speed, angle, branching (IJNME 2016 eq. 59–60;
-// dhpd.md §9). Pure functions of the particle store; no VTK, no CGAL.
+// docs/theory.md §15). Pure functions of the particle store; no VTK, no CGAL.
 #pragma once
 #include <cstdint>
 #include <optional>
@@ -31,7 +31,7 @@ struct Tip {
 /// How far (in horizons of the crack tip) a crack has run when its initial angle is taken.
 inline constexpr double kInitialHorizons = 3.0;
 
-/// The `measure` block of a scene (cases/README.md, `measure`).
+/// The `measure` block of a scene (docs/scenes.md, `measure`).
 struct Settings {
   double damage_threshold = 0.35;  ///< φ ≥ this counts as cracked
   std::int64_t every = 10;         ///< steps between measurements

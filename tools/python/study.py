@@ -5,7 +5,7 @@ Runs a family of variants of one case (spacings, static fine/coarse zones, refin
 buffers, levels), each through `dhpd run` with `--set` overrides, and measures for each its wall
 time, particle-steps and peak memory, and its errors against a reference run: crack angle,
 initiation time, tip-path distance, damage-field difference and L2 displacement error
-(dhpd.md §9). Writes study.csv, study.md and pareto.png (error against time, Pareto front
+(docs/theory.md §15, §17). Writes study.csv, study.md and pareto.png (error against time, Pareto front
 marked) into the output folder and names the cheapest variant within the error budget.
 
 Study file (YAML):

@@ -13,7 +13,7 @@ from scipy.spatial import cKDTree  # nearest reference particle
 import run_folder
 import stress_check
 
-# A particle of a crack (the crack measure's tip threshold, cases/README.md `measure`).
+# A particle of a crack (the crack measure's tip threshold, docs/scenes.md `measure`).
 CRACK_DAMAGE = 0.35
 # A particle the reference counts as damaged when asking whether a variant's crack is "where the
 # reference has damage": lower than CRACK_DAMAGE, so the edge of a reference crack counts.

@@ -1,4 +1,4 @@
-// Checkpoints of a whole run (README, "Checkpoint and restart"): the simulation (engine/
+// Checkpoints of a whole run (docs/checkpoint.md): the simulation (engine/
 // checkpoint.hpp) plus the run loop's own state: frame schedule position, frames written, bytes
 // of each CSV at the checkpoint, crack measurements and counters. A restart with another scene
 // or other --set overrides is refused with the first line that differs.

@@ -100,7 +100,7 @@ struct TreeProblem {
 /// expanding beyond kMaxAliasExpansion repeated values; nothing for an ordinary tree.
 std::optional<TreeProblem> find_tree_problem(const YAML::Node& root);
 
-/// Replaces the nodes named by the overrides (see cases/README.md, "Command-line overrides");
+/// Replaces the nodes named by the overrides (see docs/scenes.md, "Command-line overrides");
 /// returns their key paths with list indices written canonically.
 std::vector<std::string> apply_overrides(YAML::Node& root, const std::vector<Override>& overrides);
 

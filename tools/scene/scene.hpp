@@ -37,7 +37,7 @@ struct NamedMaterial {
   Location where;
 };
 
-/// How a body part makes its particles (cases/README.md, `body`).
+/// How a body part makes its particles (docs/scenes.md, `body`).
 enum class PartKind {
   Lattice,     ///< a box filled with a cell-centred lattice of `spacing`
   Mesh,        ///< a box triangulated with edges bounded by `mesh` (2D)
@@ -105,13 +105,13 @@ struct OutputSpec {
   std::optional<std::int64_t> checkpoint_every;
 };
 
-/// `effects.refinement` (cases/README.md): absent or `false` means no refiner at all.
+/// `effects.refinement` (docs/scenes.md): absent or `false` means no refiner at all.
 struct RefinementSpec {
   refine::Settings settings;
   Location where;  ///< of the `refinement` key
 };
 
-/// `measure` (cases/README.md): crack measurements written to cracks.csv and summary.json.
+/// `measure` (docs/scenes.md): crack measurements written to cracks.csv and summary.json.
 struct MeasureSpec {
   measure::Settings settings;
   std::optional<measure::Published> published;

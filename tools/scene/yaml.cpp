@@ -1,5 +1,5 @@
 // Reading a scene file: YAML text -> overrides -> checked Scene structs (schema in
-// cases/README.md).
+// docs/scenes.md).
 #include <fmt/format.h>
 
 #include <algorithm>

@@ -1,5 +1,5 @@
-// Reading the `measure` block (cases/README.md, `measure`; dhpd.md §9): thresholds, intervals,
-// notch tips and the published values echoed into summary.json.
+// Reading the `measure` block (docs/scenes.md, `measure`; docs/theory.md §15): thresholds,
+// intervals, notch tips and the published values echoed into summary.json.
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 

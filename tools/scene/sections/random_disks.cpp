@@ -1,5 +1,5 @@
 // The `random-disks` shape: non-overlapping disks placed at random from a seed (CMAME 2017 §5.2
-// inclusion layouts; schema in cases/README.md, "Shapes").
+// inclusion layouts; schema in docs/scenes.md, "Shapes").
 #include <fmt/format.h>
 
 #include "geometry/random_disks.hpp"

@@ -1,4 +1,4 @@
-// Reading `effects.refinement` (cases/README.md; dhpd.md §8): triggers, buffer, level limit,
+// Reading `effects.refinement` (docs/scenes.md; docs/theory.md §13): triggers, buffer, level limit,
 // check interval and static zones, with the checks that need the body and the model.
 #include <fmt/format.h>
 

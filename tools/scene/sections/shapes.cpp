@@ -1,5 +1,5 @@
 // Reading shapes: `{shape: WORD, ...}` maps for body parts and regions, with the checks of each
-// shape (schema in cases/README.md, "Shapes").
+// shape (schema in docs/scenes.md, "Shapes").
 #include <fmt/format.h>
 
 #include <algorithm>
