@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "engine/physics/bond_loops.hpp"
+#include "engine/physics/bond_law.hpp"
 #include "geometry/predicates.hpp"
 
 namespace dhpd::refine {
@@ -152,7 +152,9 @@ bool starts_broken(const OldGeneration& old, const OldSegments& segments, const 
 
 bool starts_overstretched(const ParticleStore& p, std::size_t owner, std::size_t neighbor,
                           double length, double owner_critical_stretch) {
-  return !p.no_fail[owner] && current_stretch(p, owner, neighbor, length) >= owner_critical_stretch;
+  return !p.no_fail[owner] &&
+         bond_law::reaches_critical_stretch(bond_law::squared_length(p, owner, neighbor), length,
+                                            owner_critical_stretch);
 }
 
 std::int64_t apply_no_healing(BondList& bonds, const ParticleStore& p,

@@ -7,6 +7,7 @@
 #include <memory>
 
 #include "engine/discretization/neighbor_search.hpp"
+#include "engine/physics/bond_law.hpp"
 #include "engine/physics/bond_loops.hpp"
 
 namespace dhpd::refine {
@@ -23,8 +24,8 @@ std::vector<double> critical_energy_density(const Simulation& sim) {
     }
     double w = 0.0;
     for (auto k = b.begin(i); k < b.end(i); ++k)
-      w += b.length[k] * b.weight[k] * b.stiffness[k] *
-           p.volume[static_cast<std::size_t>(b.neighbor[k])];
+      w += bond_law::energy_share(1.0, b.length[k], b.weight[k], b.stiffness[k],
+                                  p.volume[static_cast<std::size_t>(b.neighbor[k])]);
     out[i] = 0.5 * sim.micromodulus()[i] * s0 * s0 * w;
   }
   return out;
@@ -38,7 +39,7 @@ std::vector<double> max_bond_stretch(const Simulation& sim) {
     for (auto k = b.begin(i); k < b.end(i); ++k) {
       if (!b.intact[k]) continue;
       const auto j = static_cast<std::size_t>(b.neighbor[k]);
-      out[i] = std::max(out[i], current_stretch(p, i, j, b.length[k]));
+      out[i] = std::max(out[i], bond_law::stretch(bond_law::squared_length(p, i, j), b.length[k]));
     }
   return out;
 }

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "engine/physics/bond_law.hpp"
 #include "engine/physics/bond_loops.hpp"
 #include "engine/simulation.hpp"
 #include "refine/event.hpp"
@@ -163,7 +164,9 @@ double worst_intact_stretch(const Simulation& sim) {
     for (auto k = b.begin(i); k < b.end(i); ++k)
       if (b.intact[k] && !p.no_fail[i])
         worst = std::max(
-            worst, current_stretch(p, i, static_cast<std::size_t>(b.neighbor[k]), b.length[k]) /
+            worst, bond_law::stretch(
+                       bond_law::squared_length(p, i, static_cast<std::size_t>(b.neighbor[k])),
+                       b.length[k]) /
                        sim.critical_stretch()[i]);
   return worst;
 }

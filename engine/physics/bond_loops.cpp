@@ -2,6 +2,7 @@
 // calls.
 #include "engine/physics/bond_loops.hpp"
 #include "engine/base/parallel.hpp"
+#include "engine/physics/bond_law.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -35,8 +36,7 @@ inline void force_row(std::int64_t i, const double* const y[3], double* const f[
     const std::int32_t j = other[k];
     double dx[Dim], l2 = 0.0;
     for (int a = 0; a < Dim; ++a) dx[a] = y[a][j] - yi[a], l2 += dx[a] * dx[a];
-    // K β V s n = K β V (|y|/|ξ| − 1) y/|y| = K β V (1/|ξ| − 1/|y|) y
-    const double scale = coef[k] * (inv_len[k] - 1.0 / std::sqrt(l2));
+    const double scale = bond_law::force_factor(coef[k], inv_len[k], l2);
     for (int a = 0; a < Dim; ++a) acc[a] += scale * dx[a];
   }
   for (int a = 0; a < Dim; ++a) f[a][i] = acc[a];
@@ -59,19 +59,10 @@ void force_rows(const InteractionList& il, ParticleStore& p,
 }
 
 template <int Dim>
-double bond_stretch(const ParticleStore& p, std::int32_t i, std::int32_t j, double length) {
-  double l2 = 0.0;
-  for (int a = 0; a < Dim; ++a) {
-    const double d = p.position[a][j] - p.position[a][i];
-    l2 += d * d;
-  }
-  return std::sqrt(l2) / length - 1.0;
-}
-
-template <int Dim>
 std::int64_t break_rows(BondList& bonds, InteractionList& il, const ParticleStore& p,
                         const std::vector<double>& s0) {
   const auto n = static_cast<std::int64_t>(p.size());
+  const double* const y[3] = {p.position[0].data(), p.position[1].data(), p.position[2].data()};
   std::int64_t broken = 0;
 #pragma omp parallel for schedule(static) reduction(+ : broken) if (n >= kParallelMinParticles)
   for (std::int64_t i = 0; i < n; ++i) {
@@ -79,9 +70,9 @@ std::int64_t break_rows(BondList& bonds, InteractionList& il, const ParticleStor
     const double limit = s0[i];
     for (auto b = bonds.begin(i); b < bonds.end(i); ++b) {
       if (!bonds.intact[b]) continue;
-      if (bond_stretch<Dim>(p, static_cast<std::int32_t>(i), bonds.neighbor[b], bonds.length[b]) <
-          limit)
-        continue;
+      const double l2 = bond_law::squared_length<Dim>(y, static_cast<std::size_t>(i),
+                                                      static_cast<std::size_t>(bonds.neighbor[b]));
+      if (!bond_law::reaches_critical_stretch(l2, bonds.length[b], limit)) continue;
       bonds.intact[b] = 0;
       il.coefficient[il.own_slot[b]] = 0.0;
       if (il.dual_slot[b] >= 0) il.coefficient[il.dual_slot[b]] = 0.0;
@@ -94,12 +85,14 @@ std::int64_t break_rows(BondList& bonds, InteractionList& il, const ParticleStor
 template <int Dim>
 double row_energy(const BondList& bonds, const ParticleStore& p, const std::vector<double>& C,
                   std::size_t i) {
+  const double* const y[3] = {p.position[0].data(), p.position[1].data(), p.position[2].data()};
   double w = 0.0;
   for (auto b = bonds.begin(i); b < bonds.end(i); ++b) {
     if (!bonds.intact[b]) continue;
-    const auto j = bonds.neighbor[b];
-    const double s = bond_stretch<Dim>(p, static_cast<std::int32_t>(i), j, bonds.length[b]);
-    w += s * s * bonds.length[b] * bonds.weight[b] * bonds.stiffness[b] * p.volume[j];
+    const auto j = static_cast<std::size_t>(bonds.neighbor[b]);
+    const double s = bond_law::stretch(bond_law::squared_length<Dim>(y, i, j), bonds.length[b]);
+    w += bond_law::energy_share(s, bonds.length[b], bonds.weight[b], bonds.stiffness[b],
+                                p.volume[j]);
   }
   return 0.5 * C[i] * w;
 }

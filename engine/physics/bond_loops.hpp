@@ -12,17 +12,6 @@
 
 namespace dhpd {
 
-/// Stretch of bond i→j of reference length `length` in the current configuration (docs/theory.md
-/// §3), summed in the order the force and fracture kernels use, so it gives their bits.
-inline double current_stretch(const ParticleStore& p, std::size_t i, std::size_t j, double length) {
-  double l2 = 0.0;
-  for (int a = 0; a < p.dim(); ++a) {
-    const double d = p.position[a][j] - p.position[a][i];
-    l2 += d * d;
-  }
-  return std::sqrt(l2) / length - 1.0;
-}
-
 /// Overwrites `force_density` with the internal force per unit volume of every particle:
 /// f_i = Σ_k K_k β_k V_k s_k n_k, gathered row by row (no atomics, thread-count independent).
 /// With `rows`, only those particles are updated.

@@ -1,6 +1,7 @@
 // Interaction rows from bonds and dual bonds (IJNME 2016 eq. 27; CMAME 2017 §3, eq. 5).
 #include "engine/physics/interactions.hpp"
 #include "engine/base/parallel.hpp"
+#include "engine/physics/bond_law.hpp"
 
 namespace dhpd {
 
@@ -24,8 +25,8 @@ void fill_row(InteractionList& il, std::size_t i, ForceModel model, const BondLi
     const auto j = bonds.neighbor[b];
     il.other[k] = j;
     il.inv_length[k] = 1.0 / bonds.length[b];
-    il.coefficient[k] =
-        own_factor * C[i] * bonds.weight[b] * bonds.stiffness[b] * p.volume[j] * bonds.intact[b];
+    il.coefficient[k] = bond_law::coefficient(own_factor, C[i], bonds.weight[b], bonds.stiffness[b],
+                                              p.volume[j], bonds.intact[b]);
     il.own_slot[b] = k;
   }
   if (with_dual)
@@ -34,8 +35,8 @@ void fill_row(InteractionList& il, std::size_t i, ForceModel model, const BondLi
       const auto owner = bonds.owner[b];
       il.other[k] = owner;
       il.inv_length[k] = 1.0 / bonds.length[b];
-      il.coefficient[k] =
-          C[owner] * bonds.weight[b] * bonds.stiffness[b] * p.volume[owner] * bonds.intact[b];
+      il.coefficient[k] = bond_law::coefficient(1.0, C[owner], bonds.weight[b], bonds.stiffness[b],
+                                                p.volume[owner], bonds.intact[b]);
       il.dual_slot[b] = k;
     }
   il.rows.count[i] = static_cast<std::int32_t>(k - il.rows.start[i]);
