@@ -12,9 +12,6 @@ namespace dhpd::refine {
 using geometry::dot;
 using geometry::norm;
 using geometry::Vec3;
-using geometry::operator+;
-using geometry::operator-;
-using geometry::operator*;
 
 Vec3 OldGeneration::position(std::int32_t x) const {
   if (parent_slot) {

@@ -12,9 +12,6 @@
 namespace dhpd::refine {
 
 using geometry::Vec3;
-using geometry::operator+;
-using geometry::operator-;
-using geometry::operator*;
 
 std::vector<Vec3> child_offsets(int dim, double dx) {
   std::vector<Vec3> out;

@@ -12,7 +12,6 @@
 namespace dhpd::refine {
 
 using geometry::Vec3;
-using geometry::operator-;
 
 namespace {
 

@@ -94,6 +94,43 @@ TEST_F(CliTest, GoodRunWritesEveryOutput) {
   expect_resolved_scene(dir);
 }
 
+TEST_F(CliTest, FieldsListsEveryFieldAFrameCanHold) {
+  // `dhpd fields` names each field once with a unit; a run asking for every optional one writes
+  // each with one value (or three) per particle: the list and the frames come from one registry.
+  const auto f = dhpd({"fields"});
+  ASSERT_EQ(f.code, 0) << f.err;
+  std::istringstream lines(f.out);
+  std::string line;
+  std::getline(lines, line);  // header
+  std::vector<std::string> always, optional;
+  while (std::getline(lines, line)) {
+    std::istringstream words(line);
+    std::string name, unit, when;
+    words >> name >> unit >> when;
+    if (when != "always" && when != "on") continue;  // the closing note
+    EXPECT_FALSE(unit.empty()) << line;
+    (when == "always" ? always : optional).push_back(name);
+  }
+  EXPECT_EQ(always.size(), 10u);
+  EXPECT_EQ(optional.size(), 8u);
+  std::string list;
+  for (const auto& n : optional) list += (list.empty() ? "" : ",") + n;
+  const auto dir =
+      run_plate("result", {}, {"time.steps=10", "output.every=10", "output.fields=[" + list + "]"});
+  const auto pvd = dhpd::io::read_pvd((dir / "plate.pvd").string());
+  ASSERT_FALSE(pvd.empty());
+  const auto frame = dhpd::io::read_frame((dir / pvd.back().second).string());
+  EXPECT_EQ(frame.fields.size(), always.size() + optional.size());
+  for (const auto& names : {always, optional})
+    for (const auto& name : names) {
+      const auto it = frame.fields.find(name);
+      ASSERT_NE(it, frame.fields.end()) << name;
+      EXPECT_EQ(it->second.second.size(),
+                static_cast<std::size_t>(it->second.first * kPlateParticles))
+          << name;
+    }
+}
+
 TEST_F(CliTest, SetOverridesChangeTheRun) {
   const auto dir = run_plate("result", {}, {"time.steps=20", "output.every=10"});
   expect_frames(dir, {0, 10, 20});

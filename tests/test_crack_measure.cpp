@@ -16,10 +16,6 @@
 namespace dhpd::measure {
 namespace {
 
-using geometry::operator+;
-using geometry::operator-;
-using geometry::operator*;
-
 constexpr double kDx = 1e-3;         // lattice spacing (m)
 constexpr double kFactor = 3.015;    // horizon / spacing
 constexpr double kInterval = 1e-5;   // time between measurements (s)

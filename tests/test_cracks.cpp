@@ -12,7 +12,6 @@ namespace dhpd {
 namespace {
 
 using geometry::Crack;
-using geometry::operator-;
 
 TEST(CrackGeometry, SegmentCrossingIn2D) {
   const Crack c{{{0, 0, 0}, {1, 0, 0}}};

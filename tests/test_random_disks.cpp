@@ -13,7 +13,6 @@ namespace dhpd {
 namespace {
 
 using geometry::Vec3;
-using geometry::operator-;
 
 geometry::RandomDisksSpec plate_spec(std::uint64_t seed) {
   geometry::RandomDisksSpec spec;

@@ -281,7 +281,7 @@ const std::vector<BadScene> kBadScenes = {
      "bad.yaml:8: output: give either every (steps between frames) or frames (count), not both"},
     {"BadFieldName", plus("output: {fields: [strain_energy_densty]}"),
      "bad.yaml:8: output.fields.0: unknown field 'strain_energy_densty', did you mean "
-     "'strain_energy_density'? (allowed: strain_energy_density, force_density"},
+     "'strain_energy_density'? (allowed: force_density, no_fail, strain_energy_density"},
     {"FieldListedTwice", plus("output:\n  fields: [bond_count, bond_count]"),
      "bad.yaml:9: output.fields.1: field 'bond_count' is listed twice"},
     {"DefaultFieldListed", plus("output: {fields: [damage]}"),

@@ -8,23 +8,37 @@ namespace dhpd {
 std::vector<FieldInfo> ParticleStore::fields() {
   using G = FieldGroup;
   using S = SplitRule;
+  using E = Export;
+  // Exported fields first, in the order frames hold them.
   return {
-      {"reference_position", G::Geometry, S::FromPattern, &reference_position},
-      {"volume", G::Geometry, S::DivideByChildren, &volume},
-      {"spacing", G::Geometry, S::FromPattern, &spacing},
-      {"horizon", G::Geometry, S::FromPattern, &horizon},
-      {"density", G::Geometry, S::Copy, &density},
-      {"radius", G::Geometry, S::FromPattern, &radius},
-      {"material", G::Geometry, S::Copy, &material},
-      {"id", G::Geometry, S::FromPattern, &id},
-      {"level", G::Geometry, S::FromPattern, &level},
-      {"parent_id", G::Geometry, S::FromPattern, &parent_id},
-      {"no_fail", G::Geometry, S::Copy, &no_fail},
-      {"position", G::State, S::FromPattern, &position},
-      {"displacement", G::State, S::Copy, &displacement},
-      {"velocity", G::State, S::Copy, &velocity},
-      {"force_density", G::State, S::Reset, &force_density},
-      {"damage", G::State, S::Copy, &damage},
+      {"displacement", G::State, S::Copy, E::Always, "m", "displacement u = y - X", &displacement},
+      {"velocity", G::State, S::Copy, E::Always, "m/s", "velocity", &velocity},
+      {"damage", G::State, S::Copy, E::Always, "1",
+       "broken share of the own bonds' volume (0 intact, 1 every bond broken)", &damage},
+      {"horizon", G::Geometry, S::FromPattern, E::Always, "m", "horizon radius delta", &horizon},
+      {"volume", G::Geometry, S::DivideByChildren, E::Always, "m^3",
+       "particle volume (2D: area x thickness; 1D: length x area)", &volume},
+      {"spacing", G::Geometry, S::FromPattern, E::Always, "m",
+       "particle spacing dx (lattice spacing, or a mesh node's equivalent diameter)", &spacing},
+      {"material", G::Geometry, S::Copy, E::Always, "-",
+       "material index, in the order of the scene's materials", &material},
+      {"id", G::Geometry, S::FromPattern, E::Always, "-",
+       "particle id, unique through the run (children get new ones)", &id},
+      {"level", G::Geometry, S::FromPattern, E::Always, "-",
+       "refinement level: 0 for the scene's particles, +1 per split", &level},
+      {"parent_id", G::Geometry, S::FromPattern, E::Always, "-",
+       "id of the particle this one was split from (-1 for the scene's)", &parent_id},
+      {"force_density", G::State, S::Reset, E::OnRequest, "N/m^3",
+       "internal plus external force per unit volume", &force_density},
+      {"no_fail", G::Geometry, S::Copy, E::OnRequest, "-",
+       "1 where the own bonds never break (no_fail regions)", &no_fail},
+      {"reference_position", G::Geometry, S::FromPattern, E::Never, "m",
+       "reference position X (a frame's points)", &reference_position},
+      {"density", G::Geometry, S::Copy, E::Never, "kg/m^3", "mass density", &density},
+      {"radius", G::Geometry, S::FromPattern, E::Never, "m",
+       "radius of the interval, disk or ball of the particle's cell measure", &radius},
+      {"position", G::State, S::FromPattern, E::Never, "m", "current position y = X + u",
+       &position},
   };
 }
 

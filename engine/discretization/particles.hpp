@@ -14,16 +14,21 @@ namespace dhpd {
 /// What a child gets from its parent at a split (used by refine/).
 enum class SplitRule { Copy, DivideByChildren, FromPattern, Reset };
 enum class FieldGroup { Geometry, State };
+/// Whether a field goes into output frames: always, when the scene asks for it, or never.
+enum class Export { Always, OnRequest, Never };
 
 using ScalarArray = std::vector<double>;
 using VectorArray = std::array<std::vector<double>, 3>;  ///< one array per component
 using IndexArray = std::vector<std::int32_t>;
 using FlagArray = std::vector<std::uint8_t>;
 
+/// One registered field: its name, group, rule at a split, output, unit and meaning.
 struct FieldInfo {
   std::string_view name;
   FieldGroup group;
   SplitRule split;
+  Export output;
+  std::string_view unit, doc;
   std::variant<ScalarArray*, VectorArray*, IndexArray*, FlagArray*> data;
 };
 
@@ -40,7 +45,8 @@ class ParticleStore {
   std::size_t size() const { return volume.size(); }
   /// Resize every registered field; new entries are zero.
   void resize(std::size_t n);
-  /// Every registered field, in a fixed order (the VTK writer and the splitter iterate this).
+  /// Every registered field, in a fixed order: the splitter, the checkpoint and the output
+  /// frames (engine/output_fields.hpp) iterate this.
   std::vector<FieldInfo> fields();
 
   // Geometry (reference configuration; rewritten only by refinement).

@@ -1,5 +1,5 @@
-// The dhpd command line: run, check, bench, plot, report, study, stress. The only place errors
-// become exit codes: 0 success, 1 internal error, 2 bad input (scene, checkpoint or command
+// The dhpd command line: run, check, fields, bench, plot, report, study, stress. The only place
+// errors become exit codes: 0 success, 1 internal error, 2 bad input (scene, checkpoint or command
 // line), 3 unstable run, 130 / 143 interrupted by SIGINT / SIGTERM (after a checkpoint).
 #include <fmt/core.h>
 #include <omp.h>
@@ -7,6 +7,7 @@
 #include <iostream>
 
 #include "engine/base/errors.hpp"
+#include "engine/output_fields.hpp"
 #include "tools/bench/bench.hpp"
 #include "tools/cli/python_commands.hpp"
 #include "tools/run/runner.hpp"
@@ -24,6 +25,16 @@ std::vector<dhpd::scene::Override> parse_overrides(const std::vector<std::string
     out.push_back({s.substr(0, eq), s.substr(eq + 1)});
   }
   return out;
+}
+
+/// `dhpd fields`: every field a frame can hold, with its unit, when it is written and its meaning.
+void print_fields(std::ostream& out) {
+  out << fmt::format("{:<22} {:<7} {:<11} {}\n", "field", "unit", "written", "meaning");
+  for (const auto& f : dhpd::output_fields())
+    out << fmt::format("{:<22} {:<7} {:<11} {}\n", f.name, f.unit,
+                       f.always ? "always" : "on request", f.doc);
+  out << "Frames' points are the reference positions X (m). Ask for fields written on request in "
+         "the scene: output: {fields: [NAME, ...]}.\n";
 }
 
 int report(const char* kind, const std::exception& e, int code) {
@@ -64,6 +75,9 @@ int main(int argc, char** argv) {
   auto* check = app.add_subcommand("check", "validate a scene and print its derived quantities");
   check->add_option("scene", scene_file, "scene file (YAML)")->required();
   check->add_option("--set", sets, "override a scene key: key.path=value (repeatable)");
+
+  auto* fields = app.add_subcommand(
+      "fields", "the fields a frame can hold: unit, whether always written, meaning");
 
   dhpd::BenchOptions bench_opt;
   auto* bench = app.add_subcommand("bench", "force-kernel and step throughput on a 3D lattice");
@@ -129,6 +143,10 @@ int main(int argc, char** argv) {
       dhpd::check_run_directory(plot_opt.directory);
       return dhpd::run_plot_script(dhpd::find_plot_script(DHPD_SOURCE_DIR),
                                    *plot ? "plot" : "report", plot_opt);
+    }
+    if (*fields) {
+      print_fields(std::cout);
+      return 0;
     }
     if (*bench) {
       if (bench_opt.refinement)

@@ -18,10 +18,6 @@
 namespace dhpd::measure {
 namespace {
 
-using geometry::operator-;
-using geometry::operator+;
-using geometry::operator*;
-
 /// Two damaged particles are linked within this many (larger) spacings: the lattice neighbours
 /// and diagonal neighbours (√2 Δx), not the next-but-one (2 Δx).
 constexpr double kLinkFactor = 1.5;

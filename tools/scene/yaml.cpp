@@ -7,21 +7,27 @@
 #include <sstream>
 
 #include "engine/base/errors.hpp"
+#include "engine/output_fields.hpp"
 #include "tools/scene/detail.hpp"
 
 namespace dhpd::scene {
 
+namespace {
+std::vector<std::string> field_names(bool always) {
+  std::vector<std::string> out;
+  for (const auto& f : output_fields())
+    if (f.always == always) out.emplace_back(f.name);
+  return out;
+}
+}  // namespace
+
 const std::vector<std::string>& default_fields() {
-  static const std::vector<std::string> fields{"displacement", "velocity", "damage",   "horizon",
-                                               "volume",       "spacing",  "material", "id",
-                                               "level",        "parent_id"};
+  static const std::vector<std::string> fields = field_names(true);
   return fields;
 }
 
 const std::vector<std::string>& optional_fields() {
-  static const std::vector<std::string> fields{
-      "strain_energy_density", "force_density",    "bond_count", "dual_count", "no_fail",
-      "micromodulus",          "critical_stretch", "quadrature"};
+  static const std::vector<std::string> fields = field_names(false);
   return fields;
 }
 

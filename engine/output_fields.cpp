@@ -1,0 +1,107 @@
+// The fields of output frames: the particle store's exported fields and the derived ones.
+#include "engine/output_fields.hpp"
+
+#include <type_traits>
+
+#include "engine/base/errors.hpp"
+#include "engine/physics/bond_loops.hpp"
+
+namespace dhpd {
+namespace {
+
+std::vector<std::int32_t> intact_own_bonds(const Simulation& sim) {
+  const auto& b = sim.bonds();
+  std::vector<std::int32_t> count(sim.particles().size(), 0);
+  for (std::size_t i = 0; i < count.size(); ++i)
+    for (auto k = b.begin(i); k < b.end(i); ++k) count[i] += b.intact[k];
+  return count;
+}
+
+std::vector<std::int32_t> intact_dual_bonds(const Simulation& sim) {
+  const auto& b = sim.bonds();
+  const auto& d = sim.dual();
+  std::vector<std::int32_t> count(sim.particles().size(), 0);
+  for (std::size_t i = 0; i < count.size(); ++i)
+    for (auto k = d.begin(i); k < d.end(i); ++k) count[i] += b.intact[d.bond[k]];
+  return count;
+}
+
+/// A quantity the engine derives for a frame (not stored per particle).
+struct Derived {
+  OutputField field;
+  FieldValues (*values)(Simulation& sim);
+};
+
+const Derived kDerived[] = {
+    {{"strain_energy_density", "J/m^3", "strain-energy density W_i of the own bonds", false},
+     [](Simulation& sim) {
+       std::vector<double> w;
+       strain_energy_density(sim.bonds(), sim.particles(), sim.micromodulus(), w);
+       return FieldValues{1, std::move(w)};
+     }},
+    {{"bond_count", "-", "intact own bonds", false},
+     [](Simulation& sim) {
+       return FieldValues{1, intact_own_bonds(sim)};
+     }},
+    {{"dual_count", "-", "intact bonds others own on the particle (its dual horizon)", false},
+     [](Simulation& sim) {
+       return FieldValues{1, intact_dual_bonds(sim)};
+     }},
+    {{"micromodulus", "N/m^6", "micromodulus C of the particle's own bonds", false},
+     [](Simulation& sim) {
+       return FieldValues{1, sim.micromodulus()};
+     }},
+    {{"critical_stretch", "1", "critical stretch s0 of the particle's own bonds", false},
+     [](Simulation& sim) {
+       return FieldValues{1, sim.critical_stretch()};
+     }},
+    {{"quadrature", "1",
+      "(V_i + sum of beta V_j over the horizon) / horizon measure: 1 when integrated exactly",
+      false},
+     [](Simulation& sim) {
+       std::vector<double> q;
+       horizon_quadrature(sim.bonds(), sim.particles(), sim.setup().section, q);
+       return FieldValues{1, std::move(q)};
+     }},
+};
+
+/// A store field's values: vectors interleaved (3 per particle), indices and flags as int32.
+FieldValues store_values(const FieldInfo& f) {
+  return std::visit(
+      [](const auto* data) {
+        using T = std::remove_cv_t<std::remove_pointer_t<decltype(data)>>;
+        if constexpr (std::is_same_v<T, VectorArray>) {
+          std::vector<double> out(3 * (*data)[0].size());
+          for (std::size_t i = 0; i < (*data)[0].size(); ++i)
+            for (int a = 0; a < 3; ++a) out[3 * i + a] = (*data)[a][i];
+          return FieldValues{3, std::move(out)};
+        } else if constexpr (std::is_same_v<T, ScalarArray>) {
+          return FieldValues{1, *data};
+        } else {
+          return FieldValues{1, std::vector<std::int32_t>(data->begin(), data->end())};
+        }
+      },
+      f.data);
+}
+
+}  // namespace
+
+std::vector<OutputField> output_fields() {
+  std::vector<OutputField> out;
+  ParticleStore probe;
+  for (const auto& f : probe.fields())
+    if (f.output != Export::Never)
+      out.push_back({f.name, f.unit, f.doc, f.output == Export::Always});
+  for (const auto& d : kDerived) out.push_back(d.field);
+  return out;
+}
+
+FieldValues output_values(Simulation& sim, std::string_view name) {
+  for (const auto& f : sim.particles().fields())
+    if (f.output != Export::Never && f.name == name) return store_values(f);
+  for (const auto& d : kDerived)
+    if (d.field.name == name) return d.values(sim);
+  throw EngineError("unknown output field '" + std::string(name) + "'");
+}
+
+}  // namespace dhpd
