@@ -40,9 +40,9 @@ struct SimulationSetup {
   double safety = 0.8;
   std::optional<double> fixed_dt;
   bool spatial_sort = true;  ///< Morton-order the particles (ids keep the generation order)
-  /// The body's shape, when known: children outside it are not created.
+  /// The body's shape, when known: refinement creates no particle outside it.
   std::optional<geometry::Shape> body;
-  /// Refinement appends children after the particles of the scene; once appended particles exceed
+  /// Edits append particles after those of the scene; once appended particles exceed
   /// this fraction of all (or garbage exceeds half the bond arena) the store is re-sorted in
   /// Morton order and every row array compacted. 0 never re-sorts.
   double resort_fraction = 0.2;

@@ -103,7 +103,7 @@ SplitPlan plan_split(const ParticleStore& p, const std::vector<std::int32_t>& pa
 
 namespace {
 
-/// Copies (Copy), divides (DivideByChildren) or resets (Reset) every registered field from the
+/// Copies (Copy), divides (Shared) or resets (Reset) every registered field from the
 /// parent; FromPattern fields are copied here and overwritten by `set_pattern_fields`.
 void map_fields(ParticleStore& p, const SplitPlan& plan, ParticleStore& parents) {
   auto src = parents.fields();
@@ -120,7 +120,7 @@ void map_fields(ParticleStore& p, const SplitPlan& plan, ParticleStore& parents)
               const auto k = static_cast<std::size_t>(plan.child_parent[c]);
               V v = rule == SplitRule::Reset ? V{} : in[k];
               if constexpr (std::is_floating_point_v<V>)
-                if (rule == SplitRule::DivideByChildren) v /= plan.child_count[k];
+                if (rule == SplitRule::Shared) v /= plan.child_count[k];
               out[static_cast<std::size_t>(plan.child_slot[c])] = v;
             }
           };

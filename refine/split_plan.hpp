@@ -56,7 +56,7 @@ std::vector<std::int32_t> donors_across_cracks(const SplitPlan& plan, const Part
                                                const SpatialGrid& grid);
 
 /// Resizes `p` to plan.new_size and writes every child through the field registry: Copy,
-/// DivideByChildren (volume / children created), Reset (force density) or FromPattern (position,
+/// Shared (volume / children created), Reset (force density) or FromPattern (position,
 /// spacing and horizon halved, radius recomputed, ids from `next_id` in child order, level + 1,
 /// parent_id = the parent's id). Throws when a FromPattern field has no rule here.
 void write_children(ParticleStore& p, const SplitPlan& plan, ParticleStore& parents,

@@ -103,6 +103,10 @@ TEST_F(CheckpointCli, DamagedMissingOrForeignCheckpointsAreRefusedBeforeAnything
   flipped[flipped.size() / 3] ^= 0x20;
   damaged("flipped", flipped);
   refused("flipped", "checksum");
+  auto old = bytes;  // the format before refinement's grid left the state
+  old[8] = 2;
+  damaged("old", old);
+  refused("old", "format version 2, this dhpd reads version 3");
   damaged("text", "not a checkpoint at all, just some text in a file");
   refused("text", "header");
   damaged("noframe", bytes);

@@ -4,7 +4,17 @@
 // parallel loop is a gather with a fixed order per particle.
 #pragma once
 #include <cstdint>
+#include <type_traits>
 
 namespace dhpd {
 inline constexpr std::int64_t kParallelMinParticles = 4096;
+
+/// Calls f(std::integral_constant<int, D>{}) with D = dim (1, 2, else 3): the one place a run's
+/// dimension picks a kernel's instantiation, once per call and never per bond.
+template <class F>
+decltype(auto) with_dim(int dim, F&& f) {
+  if (dim == 1) return f(std::integral_constant<int, 1>{});
+  if (dim == 2) return f(std::integral_constant<int, 2>{});
+  return f(std::integral_constant<int, 3>{});
+}
 }  // namespace dhpd

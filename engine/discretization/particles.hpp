@@ -11,8 +11,9 @@
 
 namespace dhpd {
 
-/// What a child gets from its parent at a split (used by refine/).
-enum class SplitRule { Copy, DivideByChildren, FromPattern, Reset };
+/// How a field passes on when refine/ splits a particle: copied, shared out (a volume), set from
+/// the split pattern by refine/, or reset.
+enum class SplitRule { Copy, Shared, FromPattern, Reset };
 enum class FieldGroup { Geometry, State };
 /// Whether a field goes into output frames: always, when the scene asks for it, or never.
 enum class Export { Always, OnRequest, Never };

@@ -1,6 +1,6 @@
 // The bond law of bond-based peridynamics (docs/theory.md §3): stretch, break test, pair force
 // factor and pair energy of one bond. The one place these are written: the force, fracture and
-// energy loops, the interaction rows, refinement's triggers and birth rules all call it.
+// energy loops, the interaction rows and refine/ all call it.
 #pragma once
 #include <cmath>
 #include <cstddef>

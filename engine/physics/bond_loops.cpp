@@ -119,50 +119,22 @@ double energy_of(const BondList& bonds, const ParticleStore& p, const std::vecto
 
 void internal_force_density(const InteractionList& il, ParticleStore& p,
                             const std::vector<std::int32_t>* rows) {
-  switch (p.dim()) {
-    case 1:
-      return force_rows<1>(il, p, rows);
-    case 2:
-      return force_rows<2>(il, p, rows);
-    default:
-      return force_rows<3>(il, p, rows);
-  }
+  with_dim(p.dim(), [&](auto d) { force_rows<d()>(il, p, rows); });
 }
 
 std::int64_t break_bonds(BondList& bonds, InteractionList& il, const ParticleStore& p,
                          const std::vector<double>& s0) {
-  switch (p.dim()) {
-    case 1:
-      return break_rows<1>(bonds, il, p, s0);
-    case 2:
-      return break_rows<2>(bonds, il, p, s0);
-    default:
-      return break_rows<3>(bonds, il, p, s0);
-  }
+  return with_dim(p.dim(), [&](auto d) { return break_rows<d()>(bonds, il, p, s0); });
 }
 
 void strain_energy_density(const BondList& bonds, const ParticleStore& p,
                            const std::vector<double>& C, std::vector<double>& out) {
-  switch (p.dim()) {
-    case 1:
-      return energy_rows<1>(bonds, p, C, out);
-    case 2:
-      return energy_rows<2>(bonds, p, C, out);
-    default:
-      return energy_rows<3>(bonds, p, C, out);
-  }
+  with_dim(p.dim(), [&](auto d) { energy_rows<d()>(bonds, p, C, out); });
 }
 
 double strain_energy_of_rows(const BondList& bonds, const ParticleStore& p,
                              const std::vector<double>& C, const std::vector<std::int32_t>& rows) {
-  switch (p.dim()) {
-    case 1:
-      return energy_of<1>(bonds, p, C, rows);
-    case 2:
-      return energy_of<2>(bonds, p, C, rows);
-    default:
-      return energy_of<3>(bonds, p, C, rows);
-  }
+  return with_dim(p.dim(), [&](auto d) { return energy_of<d()>(bonds, p, C, rows); });
 }
 
 namespace {
