@@ -1,0 +1,135 @@
+// Round trips of the VTK output: frames and the .pvd collection read back bit for bit (with the
+// test-only reader of tests/support/vtk_read.hpp), compressed appended binary data, refused input.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "tests/support/temp_dir.hpp"
+#include "tests/support/vtk_read.hpp"
+#include "tools/output/vtk_writer.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using dhpd::io::PointField;
+using dhpd::test::TempDir;
+
+std::string read_text(const fs::path& p) {
+  return dhpd::test::read_file(p);
+}
+
+struct TestFrame {
+  double time;
+  std::int64_t step;
+  std::vector<double> points;
+  std::vector<PointField> fields;
+};
+
+/// Values chosen so that anything short of 17 significant digits would lose bits.
+TestFrame make_frame(int k, int n) {
+  TestFrame f;
+  f.time = k == 0 ? 1.0 / 3.0 : 2e-7 * k + 1e-13;
+  f.step = 1234567890123LL * (k + 1);
+  std::vector<double> disp, damage;
+  std::vector<std::int32_t> material, id;
+  for (int i = 0; i < n; ++i) {
+    const double x = 1.0 / (i + 3.0) + k * 0.1;
+    f.points.insert(f.points.end(), {x, std::sqrt(2.0) * i, -x / 7.0});
+    disp.insert(disp.end(), {1e-9 * i / 3.0, -0.7 / (i + 1), 1.0 / 3.0 + k});
+    damage.push_back(i / 49.0);
+    material.push_back(i % 3 - 1);
+    id.push_back(1000000 * k + i);
+  }
+  f.fields.push_back({"displacement", 3, disp});
+  f.fields.push_back({"damage", 1, damage});
+  f.fields.push_back({"material", 1, material});
+  f.fields.push_back({"id", 1, id});
+  return f;
+}
+
+std::vector<double> as_doubles(const PointField& field) {
+  if (const auto* d = std::get_if<std::vector<double>>(&field.values)) return *d;
+  const auto& v = std::get<std::vector<std::int32_t>>(field.values);
+  return {v.begin(), v.end()};
+}
+
+void expect_frame_equal(const TestFrame& expected, const dhpd::io::Frame& got) {
+  EXPECT_EQ(got.time, expected.time);
+  EXPECT_EQ(got.step, expected.step);
+  EXPECT_EQ(got.points, expected.points);
+  ASSERT_EQ(got.fields.size(), expected.fields.size());
+  for (const PointField& field : expected.fields) {
+    auto it = got.fields.find(field.name);
+    ASSERT_NE(it, got.fields.end()) << field.name;
+    EXPECT_EQ(it->second.first, field.components) << field.name;
+    EXPECT_EQ(it->second.second, as_doubles(field)) << field.name;
+    const bool is_int = std::holds_alternative<std::vector<std::int32_t>>(field.values);
+    EXPECT_EQ(got.field_types.at(field.name), is_int ? "int" : "double") << field.name;
+  }
+}
+
+TEST(VtkWriter, RoundTripFramesAndCollection) {
+  TempDir tmp;
+  const fs::path dir = tmp.path() / "frames";  // does not exist yet: write() creates it
+  dhpd::io::FrameSeries series(dir.string(), "plate");
+  std::vector<TestFrame> frames;
+  for (int k = 0; k < 3; ++k) {
+    frames.push_back(make_frame(k, 50));
+    series.write(frames[k].time, frames[k].step, frames[k].points, frames[k].fields);
+  }
+  EXPECT_EQ(series.frames_written(), 3u);
+
+  const auto pvd = dhpd::io::read_pvd((dir / "plate.pvd").string());
+  ASSERT_EQ(pvd.size(), 3u);
+  for (int k = 0; k < 3; ++k) {
+    const std::string name = "plate_00000" + std::to_string(k) + ".vtu";
+    EXPECT_EQ(pvd[k].first, frames[k].time);
+    EXPECT_EQ(pvd[k].second, name);
+    expect_frame_equal(frames[k], dhpd::io::read_frame((dir / name).string()));
+  }
+
+  std::vector<std::string> names;
+  for (const auto& entry : fs::directory_iterator(dir)) {
+    names.push_back(entry.path().filename().string());
+  }
+  std::sort(names.begin(), names.end());
+  EXPECT_EQ(names, (std::vector<std::string>{"plate.pvd", "plate_000000.vtu", "plate_000001.vtu",
+                                             "plate_000002.vtu"}));
+
+  const std::string vtu = read_text(dir / "plate_000001.vtu");
+  const std::string header = vtu.substr(0, vtu.find("<AppendedData"));
+  EXPECT_NE(header.find("compressor=\"vtkZLibDataCompressor\""), std::string::npos);
+  EXPECT_NE(header.find("format=\"appended\""), std::string::npos);
+  EXPECT_EQ(header.find("format=\"ascii\""), std::string::npos);
+  EXPECT_NE(vtu.find("<AppendedData encoding=\"raw\">"), std::string::npos);
+  EXPECT_NE(header.find("type=\"Float64\" Name=\"Points\""), std::string::npos);
+}
+
+TEST(VtkWriter, RejectsMismatchedFieldAndMissingFile) {
+  TempDir tmp;
+  dhpd::io::FrameSeries series(tmp.path().string(), "bad");
+  const std::vector<double> points = {0, 0, 0, 1, 1, 1};
+  const std::vector<PointField> fields = {{"damage", 1, std::vector<double>{0.5}}};
+  EXPECT_ANY_THROW(series.write(0.0, 0, points, fields));
+  EXPECT_EQ(series.frames_written(), 0u);
+  EXPECT_THROW(dhpd::io::read_frame((tmp.path() / "missing.vtu").string()), std::runtime_error);
+  EXPECT_THROW(dhpd::io::read_pvd((tmp.path() / "missing.pvd").string()), std::runtime_error);
+  // An output "directory" that is a regular file is an I/O failure naming the path.
+  std::ofstream(tmp.path() / "blocker") << "x";
+  dhpd::io::FrameSeries blocked((tmp.path() / "blocker").string(), "f");
+  try {
+    blocked.write(0.0, 0, points, {});
+    ADD_FAILURE() << "expected std::runtime_error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("blocker"), std::string::npos) << e.what();
+  }
+}
+}  // namespace
