@@ -81,6 +81,7 @@ std::vector<RefinementEvent> Refiner::refine_zones(Simulation& sim) {
     }
     const auto parents = graded_parents(sim, std::move(marked), s_.max_level);
     if (parents.empty()) break;
+    if (event_check_) event_check_(sim, parents.size());
     events.push_back(split(sim, parents, s_.mapping, &search_));
   }
   return events;
@@ -96,6 +97,7 @@ RefinementEvent Refiner::check(Simulation& sim) {
     none.generation = sim.generation();
     return none;
   }
+  if (event_check_) event_check_(sim, parents.size());
   return split(sim, parents, s_.mapping, &search_);
 }
 

@@ -2,6 +2,7 @@
 // Simulation then applies (docs/theory.md §13.2; IJNME 2016 §5.3).
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "engine/simulation.hpp"
@@ -53,6 +54,10 @@ class Refiner {
   explicit Refiner(Settings s) : s_(std::move(s)) {}
   const Settings& settings() const { return s_; }
 
+  /// Called with the parents of each event before it is applied: the caller may log a large
+  /// event or refuse one that would exceed its memory budget (by throwing).
+  using EventCheck = std::function<void(const Simulation& sim, std::size_t parents)>;
+  void set_event_check(EventCheck check) { event_check_ = std::move(check); }
   /// Builds the search the events keep up to date (else the first event builds it).
   void prepare(const Simulation& sim) { search_.grid(sim); }
   /// Splits the zones' particles, level by level up to max_level; one event per level.
@@ -66,6 +71,7 @@ class Refiner {
  private:
   Settings s_;
   EventSearch search_;  ///< the incremental grid kept between events
+  EventCheck event_check_;
 };
 
 }  // namespace dhpd::refine

@@ -17,6 +17,13 @@ class InstabilityError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// Writing or reading an output failed (disk full, a read-only folder, a path that is a file):
+/// exit code 5, with the path and the system's reason; files already written stay valid.
+class IoError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 /// An internal invariant failed (a bug, not the user's fault): exit code 1.
 class EngineError : public std::logic_error {
  public:

@@ -202,6 +202,28 @@ std::size_t simulation_snapshot_bytes(const Simulation& sim) {
   return count.size();
 }
 
+StateBytes state_bytes(ForceModel model) {
+  StateBytes b;
+  ParticleStore probe;
+  for (const auto& f : probe.fields())
+    b.per_particle += std::visit(
+        [](const auto* data) -> double {
+          using T = std::remove_cv_t<std::remove_pointer_t<decltype(data)>>;
+          if constexpr (std::is_same_v<T, VectorArray>)
+            return 3.0 * sizeof(double);
+          else
+            return sizeof(typename T::value_type);
+        },
+        f.data);
+  const double row_index = sizeof(std::int64_t) + 2 * sizeof(std::int32_t);
+  b.per_particle += 3 * sizeof(double) + 3 * row_index;  // C, s0, stable step; three row arenas
+  const double bond_row = 2 * sizeof(std::int32_t) + 3 * sizeof(double) + sizeof(std::uint8_t);
+  const double interaction = sizeof(std::int32_t) + 2 * sizeof(double);
+  const double entries = model == ForceModel::DualHorizon ? 2.0 : 1.0;
+  b.per_bond = bond_row + sizeof(BondId) + entries * interaction + 2 * sizeof(std::int64_t);
+  return b;
+}
+
 void load_simulation(std::span<const std::byte> bytes, Simulation& sim, const std::string& source) {
   archive::Reader r(bytes, source);
   CheckpointAccess::load(sim, r);

@@ -19,7 +19,7 @@ namespace {
 namespace fs = std::filesystem;
 
 [[noreturn]] void refuse_io(const std::string& what, const std::string& path) {
-  throw std::runtime_error(fmt::format("cannot {} '{}': {}", what, path, std::strerror(errno)));
+  throw IoError(fmt::format("cannot {} '{}': {}", what, path, std::strerror(errno)));
 }
 
 void sync_directory_of(const fs::path& path) {

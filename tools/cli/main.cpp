@@ -1,15 +1,19 @@
 // The dhpd command line: run, check, fields, bench, plot, report, study, stress. The only place
 // errors become exit codes: 0 success, 1 internal error, 2 bad input (scene, checkpoint or command
-// line), 3 unstable run, 130 / 143 interrupted by SIGINT / SIGTERM (after a checkpoint).
+// line), 3 unstable run, 4 stopped at the memory budget, 5 an output could not be written (disk
+// full, read-only folder), 130 / 143 interrupted by SIGINT / SIGTERM (after a checkpoint).
 #include <fmt/core.h>
 #include <omp.h>
 #include <CLI/CLI.hpp>
+#include <cstdio>
+#include <filesystem>
 #include <iostream>
 
 #include "engine/base/errors.hpp"
 #include "engine/output_fields.hpp"
 #include "tools/bench/bench.hpp"
 #include "tools/cli/python_commands.hpp"
+#include "tools/cli/version.hpp"
 #include "tools/run/runner.hpp"
 #include "tools/scene/scene.hpp"
 
@@ -45,8 +49,12 @@ int report(const char* kind, const std::exception& e, int code) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // Line-buffered even when stdout is a file or a pipe: a redirected or killed run keeps its log.
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);
   CLI::App app{"dhpd: dual-horizon peridynamics for dynamic fracture"};
   app.require_subcommand(1);
+  app.set_version_flag(
+      "--version", fmt::format("dhpd {} (commit {})", dhpd::dhpd_version(), dhpd::dhpd_commit()));
   std::string scene_file, out_dir, restart_dir;
   std::vector<std::string> sets;
   int threads = 0;
@@ -59,6 +67,10 @@ int main(int argc, char** argv) {
   run->add_option("-t,--threads", threads, "OpenMP threads (default: all cores)")
       ->check(CLI::Range(1, 1024));
   run->add_flag("-q,--quiet", quiet, "no log lines or progress");
+  bool overwrite = false;
+  run->add_flag("--overwrite", overwrite,
+                "replace another run's outputs in the output folder (removes exactly the files a "
+                "dhpd run writes; without it such a folder is refused)");
   run->add_option(
          "--restart", restart_dir,
          "continue the run whose outputs are in DIR from DIR/checkpoint.bin (or from a checkpoint "
@@ -72,9 +84,20 @@ int main(int argc, char** argv) {
       "143. A restarted run's results equal an uninterrupted run's, bit for bit.\n"
       "Example: dhpd run plate.yaml -o out --restart out");
 
-  auto* check = app.add_subcommand("check", "validate a scene and print its derived quantities");
+  auto* check = app.add_subcommand(
+      "check",
+      "validate a scene; print its warnings and what it will cost (particles, bonds, "
+      "memory, steps) without building it");
   check->add_option("scene", scene_file, "scene file (YAML)")->required();
   check->add_option("--set", sets, "override a scene key: key.path=value (repeatable)");
+  bool build_check = false;
+  check->add_flag("--build", build_check,
+                  "also build the simulation (every bond) and print its derived values");
+  double max_memory_mb = 0;
+  for (auto* cmd : {run, check})
+    cmd->add_option("--max-memory", max_memory_mb,
+                    "memory the run may use, MB (default: the machine's available memory)")
+        ->check(CLI::PositiveNumber);
 
   auto* fields = app.add_subcommand(
       "fields", "the fields a frame can hold: unit, whether always written, meaning");
@@ -127,6 +150,8 @@ int main(int argc, char** argv) {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
   } catch (const CLI::ParseError& e) {
     std::cerr << "dhpd: error: " << e.what() << "\n"
               << "run 'dhpd --help' for usage\n";
@@ -157,7 +182,8 @@ int main(int argc, char** argv) {
     }
     const auto scene = dhpd::scene::load_scene(scene_file, parse_overrides(sets));
     if (*check) {
-      dhpd::check_scene(scene, std::cout);
+      dhpd::check_scene(scene, std::cout, build_check,
+                        max_memory_mb > 0 ? std::optional<double>(max_memory_mb) : std::nullopt);
       return 0;
     }
     dhpd::RunOptions opt;
@@ -166,12 +192,22 @@ int main(int argc, char** argv) {
     opt.progress = !quiet;
     opt.echo = !quiet;
     if (!restart_dir.empty()) opt.restart_from = restart_dir;
+    opt.overwrite = overwrite;
+    if (max_memory_mb > 0) opt.max_memory_mb = max_memory_mb;
+    opt.command_words.assign(argv, argv + argc);
+    opt.command_words.front() = "dhpd";
     dhpd::run_scene(scene, opt);
     return 0;
   } catch (const dhpd::InputError& e) {
     return report("error", e, 2);
   } catch (const dhpd::InstabilityError& e) {
     return report("unstable run stopped", e, 3);
+  } catch (const dhpd::IoError& e) {
+    return report("I/O error", e, 5);
+  } catch (const std::filesystem::filesystem_error& e) {
+    return report("I/O error", e, 5);
+  } catch (const dhpd::ResourceLimit& e) {
+    return report("stopped", e, 4);
   } catch (const dhpd::RunInterrupted& e) {
     return report("interrupted", e, 128 + e.signal());
   } catch (const std::exception& e) {

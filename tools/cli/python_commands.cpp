@@ -22,7 +22,7 @@ namespace fs = std::filesystem;
 
 constexpr const char* kPython = "/usr/bin/python3";
 constexpr const char* kExpected =
-    "expected the output directory of a dhpd run, with summary.json and history.csv (written by "
+    "expected the output directory of a dhpd run, with history.csv or frames (written by "
     "'dhpd run SCENE -o DIR')";
 
 /// The directory of the running executable, or empty when /proc is not there.
@@ -51,10 +51,15 @@ void check_run_directory(const std::string& directory) {
   const fs::path dir(directory);
   if (!fs::is_directory(dir))
     throw InputError(fmt::format("{}: no such directory; {}", directory, kExpected));
-  for (const char* name : {"summary.json", "history.csv"}) {
-    if (!fs::is_regular_file(dir / name))
-      throw InputError(fmt::format("{}: missing; {}", (dir / name).string(), kExpected));
-  }
+  // A killed, interrupted or failed run still has pictures to show: a history or a frame is
+  // enough (the script says what is missing).
+  bool frames = false;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(dir, ec))
+    frames = frames || e.path().extension() == ".vtu";
+  if (!fs::is_regular_file(dir / "history.csv") && !frames)
+    throw InputError(
+        fmt::format("{}: neither history.csv nor a frame (.vtu); {}", directory, kExpected));
 }
 
 std::string find_tool_script(const std::string& source_dir, const std::string& file) {

@@ -1,8 +1,12 @@
 // history.csv, summary.json and the terminal progress line.
 #include "tools/output/text_outputs.hpp"
 
+#include "engine/base/errors.hpp"
+
 #include <fmt/format.h>
 #include <unistd.h>
+#include <cerrno>
+#include <cstring>
 
 #include <cstdio>
 #include <cstdlib>
@@ -27,19 +31,20 @@ void write_text_atomically(const std::string& path, const std::string& text) {
   const fs::path tmp = fs::path(final_path).concat(".tmp");
   std::error_code ec;
   {
+    errno = 0;
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
     out << text;
     out.close();
     if (!out) {
+      const std::string reason = errno ? std::strerror(errno) : "the stream failed";
       fs::remove(tmp, ec);
-      throw std::runtime_error(fmt::format("cannot write '{}'", tmp.string()));
+      throw IoError(fmt::format("cannot write '{}': {}", path, reason));
     }
   }
   fs::rename(tmp, final_path, ec);
   if (ec) {
     fs::remove(tmp, ec);
-    throw std::runtime_error(
-        fmt::format("cannot rename '{}' to '{}': {}", tmp.string(), path, ec.message()));
+    throw IoError(fmt::format("cannot rename '{}' to '{}': {}", tmp.string(), path, ec.message()));
   }
 }
 
@@ -62,20 +67,26 @@ constexpr const char* kCracksHeader =
 /// A CSV file with its header written and flushed, or opened at its end to continue it; `what`
 /// names it in errors.
 std::ofstream open_csv(const std::string& path, const char* header, const char* what, bool append) {
+  errno = 0;
   std::ofstream out(path, append ? std::ios::app | std::ios::ate : std::ios::trunc);
-  if (!out) throw std::runtime_error(fmt::format("cannot open {} file '{}'", what, path));
+  if (!out)
+    throw IoError(fmt::format("cannot open {} file '{}': {}", what, path, std::strerror(errno)));
   if (append) return out;
   out << header << '\n';
   out.flush();
-  if (!out) throw std::runtime_error(fmt::format("cannot write {} file '{}'", what, path));
+  if (!out)
+    throw IoError(fmt::format("cannot write {} file '{}': {}", what, path, std::strerror(errno)));
   return out;
 }
 
 /// Appends one row and flushes it, so a crash keeps every row written before.
 void write_row(std::ofstream& out, const std::string& row, const char* what) {
+  errno = 0;
   out << row;
   out.flush();
-  if (!out) throw std::runtime_error(fmt::format("cannot write {} row", what));
+  if (!out)
+    throw IoError(fmt::format("cannot write a row of {}.csv: {}", what,
+                              errno ? std::strerror(errno) : "the stream failed"));
 }
 
 nlohmann::ordered_json optional_number(const std::optional<double>& v) {
@@ -169,6 +180,11 @@ void write_summary(const std::string& path, const Summary& s) {
   j["bond_updates_per_second"] = s.bond_updates_per_second;
   j["particle_steps_per_second"] = s.particle_steps_per_second;
   j["threads"] = s.threads;
+  j["version"] = s.version;
+  j["commit"] = s.commit;
+  j["command_line"] = s.command_line;
+  j["peak_memory_mb"] = s.peak_memory_mb;
+  j["warnings"] = s.warnings;
   j["active_effects"] = s.active_effects;
   nlohmann::ordered_json phases = nlohmann::ordered_json::object();
   for (const PhaseSeconds& p : s.phases) phases[p.name] = p.seconds;
@@ -190,26 +206,45 @@ void write_summary(const std::string& path, const Summary& s) {
   write_text_atomically(path, j.dump(2) + "\n");
 }
 
-Progress::Progress(std::int64_t total_steps, bool enabled, std::int64_t first_step)
-    : total_(total_steps), enabled_(enabled), first_(first_step) {}
+Progress::Progress(std::int64_t total_steps, bool enabled, std::int64_t first_step,
+                   std::optional<double> end_time)
+    : total_(total_steps), enabled_(enabled), first_(first_step), end_time_(end_time) {}
+
+std::string Progress::eta(std::int64_t step, double time, double elapsed_seconds) {
+  if (!end_time_) {
+    if (step >= total_) return "0";
+    if (step <= first_) return "--";
+    return fmt::format("{:.0f}", elapsed_seconds / static_cast<double>(step - first_) *
+                                     static_cast<double>(total_ - step));
+  }
+  if (time >= *end_time_) return "0";
+  // The rate of the last window of at least 2 s (the whole run until then).
+  if (rate_time_ < 0.0) {
+    rate_time_ = time, rate_wall_ = elapsed_seconds;
+    return "--";
+  }
+  if (elapsed_seconds - rate_wall_ >= 2.0 || rate_ == 0.0) {
+    if (elapsed_seconds > rate_wall_ && time > rate_time_)
+      rate_ = (time - rate_time_) / (elapsed_seconds - rate_wall_);
+    if (elapsed_seconds - rate_wall_ >= 2.0) rate_time_ = time, rate_wall_ = elapsed_seconds;
+  }
+  return rate_ > 0.0 ? fmt::format("{:.0f}", (*end_time_ - time) / rate_) : "--";
+}
 
 void Progress::update(std::int64_t step, double time, std::int64_t broken_bonds,
                       double elapsed_seconds) {
   if (!enabled_) return;
-  const bool last = step >= total_;
+  const bool last = end_time_ ? time >= *end_time_ : step >= total_;
   if (last_print_ >= 0.0 && elapsed_seconds - last_print_ < 0.25 && !last) return;
   last_print_ = elapsed_seconds;
-  std::string eta = "--";
-  if (step > first_ && total_ > step) {
-    const double remaining =
-        elapsed_seconds / static_cast<double>(step - first_) * static_cast<double>(total_ - step);
-    eta = fmt::format("{:.0f}", remaining);
-  } else if (last) {
-    eta = "0";
-  }
+  const std::string left = eta(step, time, elapsed_seconds);
   // "\x1b[K" clears whatever a previous, longer line left behind.
-  fmt::print(stderr, "\rstep {}/{}  t={:.3e} s  ETA {} s  broken {}\x1b[K", step, total_, time, eta,
-             broken_bonds);
+  if (end_time_)
+    fmt::print(stderr, "\rstep {}  t={:.3e} / {:.3e} s ({:.0f} %)  ETA {} s  broken {}\x1b[K", step,
+               time, *end_time_, 100.0 * std::min(1.0, time / *end_time_), left, broken_bonds);
+  else
+    fmt::print(stderr, "\rstep {}/{}  t={:.3e} s  ETA {} s  broken {}\x1b[K", step, total_, time,
+               left, broken_bonds);
   std::fflush(stderr);
 }
 

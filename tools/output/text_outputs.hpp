@@ -98,6 +98,10 @@ struct Summary {
   double end_time = 0, dt = 0, critical_dt = 0;
   double bond_updates_per_second = 0, particle_steps_per_second = 0;
   int threads = 1;
+  /// Provenance: dhpd's version, the source tree's commit, the command line that ran.
+  std::string version, commit, command_line;
+  double peak_memory_mb = 0;          ///< this process's own peak resident memory (VmHWM)
+  std::vector<std::string> warnings;  ///< legal but probably unintended settings (log lines too)
   std::vector<std::string> active_effects;
   std::vector<PhaseSeconds> phases;
   std::vector<MaterialCount> materials;
@@ -110,20 +114,28 @@ void write_summary(const std::string& path, const Summary& s);
 void write_text_atomically(const std::string& path, const std::string& text);
 
 /// One-line progress on a terminal: step, time, ETA, broken bonds. Silent when stderr is not a
-/// terminal or the CI environment variable is set.
+/// terminal or the CI environment variable is set. A run that ends at a time (`end_time`) counts
+/// its progress in simulated time, since refinement changes the step: the ETA is the time left
+/// at the rate of the last few seconds of wall time, not a step count fixed at the start.
 class Progress {
  public:
   /// `first_step`: the steps done before this process (a restart); the ETA uses only the rest.
-  Progress(std::int64_t total_steps, bool enabled, std::int64_t first_step = 0);
+  Progress(std::int64_t total_steps, bool enabled, std::int64_t first_step = 0,
+           std::optional<double> end_time = std::nullopt);
   void update(std::int64_t step, double time, std::int64_t broken_bonds, double elapsed_seconds);
   void finish();
   static bool wanted();  ///< stderr is a terminal and CI is unset
+  /// The ETA text for a run at (step, time) after `elapsed` s (what update prints; "--" unknown).
+  std::string eta(std::int64_t step, double time, double elapsed_seconds);
 
  private:
   std::int64_t total_;
   bool enabled_;
   std::int64_t first_;
+  std::optional<double> end_time_;
   double last_print_ = -1.0;
+  double rate_time_ = -1.0, rate_wall_ = 0.0;  ///< where the rate window started
+  double rate_ = 0.0;                          ///< simulated seconds per wall second
 };
 
 }  // namespace dhpd::io

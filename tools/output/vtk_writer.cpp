@@ -1,32 +1,32 @@
-// VTK XML frame output and read-back. This is the only translation unit that sees VTK headers.
+// VTK XML frame output. This is the only translation unit of the libraries that sees VTK headers
+// (the tests read frames back with tests/support/vtk_read.cpp).
 #include "tools/output/vtk_writer.hpp"
 
+#include "engine/base/errors.hpp"
+
 #include <fmt/format.h>
-#include <vtkCallbackCommand.h>
 #include <vtkCellArray.h>
 #include <vtkCellType.h>
-#include <vtkCommand.h>
 #include <vtkDataArray.h>
 #include <vtkDoubleArray.h>
+#include <vtkErrorCode.h>
 #include <vtkFieldData.h>
 #include <vtkIdTypeArray.h>
 #include <vtkIntArray.h>
+#include <vtkObject.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
 #include <vtkSmartPointer.h>
+#include <vtkStringArray.h>
 #include <vtkTypeInt64Array.h>
 #include <vtkUnstructuredGrid.h>
-#include <vtkVariant.h>
-#include <vtkXMLDataElement.h>
-#include <vtkXMLDataParser.h>
-#include <vtkXMLUnstructuredGridReader.h>
 #include <vtkXMLUnstructuredGridWriter.h>
+#include <cerrno>
+#include <cstring>
 
 #include <algorithm>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <stdexcept>
 #include <system_error>
 #include <utility>
@@ -60,35 +60,15 @@ std::string xml_escape(const std::string& text) {
   return out;
 }
 
-std::string xml_unescape(const std::string& text) {
-  static constexpr std::pair<const char*, char> kEntities[] = {
-      {"&amp;", '&'}, {"&lt;", '<'}, {"&gt;", '>'}, {"&quot;", '"'}, {"&apos;", '\''}};
-  std::string out;
-  for (std::size_t i = 0; i < text.size(); ++i) {
-    bool replaced = false;
-    if (text[i] == '&') {
-      for (const auto& [entity, ch] : kEntities) {
-        if (text.compare(i, std::char_traits<char>::length(entity), entity) == 0) {
-          out += ch;
-          i += std::char_traits<char>::length(entity) - 1;
-          replaced = true;
-          break;
-        }
-      }
-    }
-    if (!replaced) out += text[i];
-  }
-  return out;
-}
-
 /// Renames `from` onto `to`; on failure removes `from` and throws with both paths.
 void commit_file(const fs::path& from, const fs::path& to) {
   std::error_code ec;
   fs::rename(from, to, ec);
   if (ec) {
+    const auto reason = ec.message();
     fs::remove(from, ec);
-    throw std::runtime_error(
-        fmt::format("cannot rename '{}' to '{}': {}", from.string(), to.string(), ec.message()));
+    throw IoError(
+        fmt::format("cannot rename '{}' to '{}': {}", from.string(), to.string(), reason));
   }
 }
 
@@ -97,8 +77,8 @@ void ensure_directory(const fs::path& dir) {
   std::error_code ec;
   fs::create_directories(dir, ec);
   if (ec || !fs::is_directory(dir)) {
-    throw std::runtime_error(
-        fmt::format("cannot create output directory '{}': {}", dir.string(), ec.message()));
+    throw IoError(fmt::format("cannot create output directory '{}': {}", dir.string(),
+                              ec ? ec.message() : "a file of that name is in the way"));
   }
 }
 
@@ -186,30 +166,30 @@ void write_vtu(vtkUnstructuredGrid* grid, const fs::path& final_path) {
   writer->SetHeaderTypeToUInt64();
   // Instantiates vtkZLibDataCompressor inside IOXML, so no direct link to VTK::IOCore is needed.
   writer->SetCompressorTypeToZLib();
-  if (writer->Write() != 1) {
+  errno = 0;
+  const bool written = writer->Write() == 1 && writer->GetErrorCode() == vtkErrorCode::NoError;
+  if (!written) {
+    // The frame never gets its final name: a reader sees whole frames only.
+    const int code = writer->GetErrorCode();
+    const std::string reason =
+        code == vtkErrorCode::OutOfDiskSpaceError
+            ? "no space left on the device"
+            : (errno ? std::string(std::strerror(errno)) : fmt::format("VTK error code {}", code));
     std::error_code ec;
     fs::remove(tmp, ec);
-    throw std::runtime_error(fmt::format("cannot write VTK file '{}'", tmp.string()));
+    throw IoError(fmt::format("cannot write frame '{}': {}", final_path.string(), reason));
   }
   commit_file(tmp, final_path);
 }
 
-/// Reads attribute `key` of one XML tag into `value`; false when the attribute is absent.
-bool tag_attribute(const std::string& tag, const std::string& key, std::string& value) {
-  const std::string needle = " " + key + "=\"";
-  std::size_t pos = tag.find(needle);
-  if (pos == std::string::npos) return false;
-  pos += needle.size();
-  const std::size_t end = tag.find('"', pos);
-  if (end == std::string::npos) return false;
-  value = xml_unescape(tag.substr(pos, end - pos));
-  return true;
-}
-
 }  // namespace
 
-FrameSeries::FrameSeries(std::string directory, std::string name)
-    : directory_(std::move(directory)), name_(std::move(name)) {}
+FrameSeries::FrameSeries(std::string directory, std::string name,
+                         std::vector<std::string> materials)
+    : directory_(std::move(directory)), name_(std::move(name)), materials_(std::move(materials)) {
+  // VTK's own error dump would bury the one message the run gives (IoError, with the reason).
+  vtkObject::GlobalWarningDisplayOff();
+}
 
 void FrameSeries::write(double time, std::int64_t step, const std::vector<double>& points,
                         const std::vector<PointField>& fields) {
@@ -217,6 +197,12 @@ void FrameSeries::write(double time, std::int64_t step, const std::vector<double
   const std::string file = fmt::format("{}_{:06d}.vtu", name_, entries_.size());
   auto grid = make_grid(points, fields);
   add_time_data(grid, time, step);
+  if (!materials_.empty()) {
+    auto names = vtkSmartPointer<vtkStringArray>::New();
+    names->SetName("material_names");
+    for (const auto& m : materials_) names->InsertNextValue(m);
+    grid->GetFieldData()->AddArray(names);
+  }
   write_vtu(grid, fs::path(directory_) / file);
   entries_.emplace_back(time, file);
   write_pvd();
@@ -242,96 +228,18 @@ void FrameSeries::write_pvd() const {
   const fs::path final_path = fs::path(directory_) / (name_ + ".pvd");
   const fs::path tmp = fs::path(final_path).concat(".tmp");
   {
+    errno = 0;
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
     out << text;
     out.close();
     if (!out) {
+      const std::string reason = errno ? std::strerror(errno) : "the stream failed";
       std::error_code ec;
       fs::remove(tmp, ec);
-      throw std::runtime_error(fmt::format("cannot write '{}'", tmp.string()));
+      throw IoError(fmt::format("cannot write '{}': {}", final_path.string(), reason));
     }
   }
   commit_file(tmp, final_path);
-}
-
-Frame read_frame(const std::string& vtu_path) {
-  std::error_code ec;
-  if (!fs::is_regular_file(vtu_path, ec)) {
-    throw std::runtime_error(fmt::format("no such VTK file '{}'", vtu_path));
-  }
-  auto reader = vtkSmartPointer<vtkXMLUnstructuredGridReader>::New();
-  if (!reader->CanReadFile(vtu_path.c_str())) {
-    throw std::runtime_error(fmt::format("not a VTK unstructured grid file '{}'", vtu_path));
-  }
-  reader->SetFileName(vtu_path.c_str());
-  reader->Update();
-  vtkUnstructuredGrid* grid = reader->GetOutput();
-  if (reader->GetErrorCode() != 0 || grid == nullptr) {
-    throw std::runtime_error(fmt::format("cannot read VTK file '{}'", vtu_path));
-  }
-
-  Frame frame;
-  if (vtkPoints* pts = grid->GetPoints()) {
-    frame.points.resize(static_cast<std::size_t>(pts->GetNumberOfPoints()) * 3);
-    for (vtkIdType i = 0; i < pts->GetNumberOfPoints(); ++i) pts->GetPoint(i, &frame.points[3 * i]);
-  }
-  vtkPointData* pd = grid->GetPointData();
-  for (int a = 0; a < pd->GetNumberOfArrays(); ++a) {
-    vtkDataArray* array = pd->GetArray(a);
-    if (array == nullptr || array->GetName() == nullptr) continue;
-    const int comps = array->GetNumberOfComponents();
-    std::vector<double> values(static_cast<std::size_t>(array->GetNumberOfTuples()) * comps);
-    for (vtkIdType t = 0; t < array->GetNumberOfTuples(); ++t) {
-      for (int c = 0; c < comps; ++c) values[t * comps + c] = array->GetComponent(t, c);
-    }
-    frame.fields[array->GetName()] = {comps, std::move(values)};
-    frame.field_types[array->GetName()] = array->GetDataTypeAsString();
-  }
-  vtkFieldData* fd = grid->GetFieldData();
-  if (vtkDataArray* t = fd->GetArray("TimeValue"); t && t->GetNumberOfTuples() > 0) {
-    frame.time = t->GetComponent(0, 0);
-  }
-  if (vtkAbstractArray* s = fd->GetAbstractArray("Step"); s && s->GetNumberOfTuples() > 0) {
-    frame.step = s->GetVariantValue(0).ToTypeInt64();
-  }
-  return frame;
-}
-
-std::vector<std::pair<double, std::string>> read_pvd(const std::string& pvd_path) {
-  std::ifstream in(pvd_path, std::ios::binary);
-  if (!in) throw std::runtime_error(fmt::format("cannot open '{}'", pvd_path));
-  std::ostringstream buffer;
-  buffer << in.rdbuf();
-  const std::string text = buffer.str();
-  // A whole XML document with a VTKFile root and a Collection (VTK's own XML parser).
-  auto parser = vtkSmartPointer<vtkXMLDataParser>::New();
-  auto quiet = vtkSmartPointer<vtkCallbackCommand>::New();  // the error is ours to report
-  parser->AddObserver(vtkCommand::ErrorEvent, quiet);
-  std::istringstream xml(text);
-  parser->SetStream(&xml);
-  vtkXMLDataElement* root = parser->Parse() ? parser->GetRootElement() : nullptr;
-  if (!root || std::string(root->GetName()) != "VTKFile" ||
-      !root->FindNestedElementWithName("Collection"))
-    throw std::runtime_error(fmt::format("'{}' is not a whole VTK collection file", pvd_path));
-
-  std::vector<std::pair<double, std::string>> entries;
-  for (std::size_t pos = text.find("<DataSet"); pos != std::string::npos;
-       pos = text.find("<DataSet", pos + 1)) {
-    const std::size_t end = text.find('>', pos);
-    if (end == std::string::npos) break;
-    const std::string tag = text.substr(pos, end - pos);
-    std::string time_text, file;
-    if (!tag_attribute(tag, "timestep", time_text) || !tag_attribute(tag, "file", file)) {
-      throw std::runtime_error(fmt::format("malformed DataSet entry in '{}'", pvd_path));
-    }
-    char* parsed_end = nullptr;
-    const double time = std::strtod(time_text.c_str(), &parsed_end);
-    if (parsed_end == time_text.c_str()) {
-      throw std::runtime_error(fmt::format("bad timestep '{}' in '{}'", time_text, pvd_path));
-    }
-    entries.emplace_back(time, file);
-  }
-  return entries;
 }
 
 }  // namespace dhpd::io

@@ -1,9 +1,9 @@
 // VTK XML output: one .vtu per frame (binary, zlib-compressed, double-precision points, one vertex
 // cell per particle) and a .pvd collection that is rewritten atomically after every frame.
-// VTK headers stay inside vtk_writer.cpp.
+// VTK headers stay inside vtk_writer.cpp. Frames are read back only by the tests
+// (tests/support/vtk_read.hpp).
 #pragma once
 #include <cstdint>
-#include <map>
 #include <string>
 #include <variant>
 #include <vector>
@@ -20,7 +20,9 @@ struct PointField {
 /// Writes frames `<directory>/<name>_<k>.vtu` and keeps `<directory>/<name>.pvd` valid after each.
 class FrameSeries {
  public:
-  FrameSeries(std::string directory, std::string name);
+  /// `materials`: the scene's material names, in index order; every frame carries them as field
+  /// data `material_names` (the `material` point array indexes it).
+  FrameSeries(std::string directory, std::string name, std::vector<std::string> materials = {});
   /// `points` holds 3 doubles per particle. Writes to a temporary file, then renames.
   void write(double time, std::int64_t step, const std::vector<double>& points,
              const std::vector<PointField>& fields);
@@ -34,21 +36,8 @@ class FrameSeries {
  private:
   void write_pvd() const;
   std::string directory_, name_;
+  std::vector<std::string> materials_;
   std::vector<std::pair<double, std::string>> entries_;  ///< (time, file name)
 };
-
-/// A frame read back with VTK's XML reader (for tests and post-processing).
-struct Frame {
-  double time = 0.0;
-  std::int64_t step = -1;
-  std::vector<double> points;  ///< 3 per particle
-  std::map<std::string, std::pair<int, std::vector<double>>>
-      fields;                                      ///< name → (components, values)
-  std::map<std::string, std::string> field_types;  ///< name → VTK data type name ("double", "int")
-};
-Frame read_frame(const std::string& vtu_path);
-
-/// (time, file) entries of a .pvd collection, in file order, times parsed at full precision.
-std::vector<std::pair<double, std::string>> read_pvd(const std::string& pvd_path);
 
 }  // namespace dhpd::io

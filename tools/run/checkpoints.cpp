@@ -57,6 +57,7 @@ std::string checkpoint_scene_text(const scene::Scene& scene) {
   auto s = scene;
   s.output.directory.clear();
   s.output.checkpoint_every.reset();
+  s.output.checkpoint_minutes = 0.0;  // when to checkpoint changes no number of the run
   return scene::resolved_yaml(s);
 }
 

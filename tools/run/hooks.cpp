@@ -64,29 +64,27 @@ void RefinementHook::log(const Simulation& sim, const refine::RefinementEvent& e
   r.resort_seconds = ev.resort_seconds;
   csv->write(r);
   ++events;
-  if (echo)
-    fmt::print(
-        "dhpd: refinement {} at step {} (t = {:.4g} s): {} parents -> {} children; {} "
-        "particles; {} rows, {} bonds rebuilt ({} start broken by no-healing, {} overstretched); "
-        "dt = {:.4g} s; {:.4f} s{}\n",
-        r.generation, r.step, r.time, r.parents, r.children, r.particles, r.rows_rebuilt,
-        r.bonds_rebuilt, r.started_broken, r.started_overstretched, r.dt, r.seconds,
-        ev.resorted ? fmt::format(" (+ re-sort {:.4f} s)", ev.resort_seconds) : "");
+  log_lines.line(fmt::format(
+      "dhpd: refinement {} at step {} (t = {:.4g} s): {} parents -> {} children; {} "
+      "particles; {} rows, {} bonds rebuilt ({} start broken by no-healing, {} overstretched); "
+      "dt = {:.4g} s; {:.4f} s{}",
+      r.generation, r.step, r.time, r.parents, r.children, r.particles, r.rows_rebuilt,
+      r.bonds_rebuilt, r.started_broken, r.started_overstretched, r.dt, r.seconds,
+      ev.resorted ? fmt::format(" (+ re-sort {:.4f} s)", ev.resort_seconds) : ""));
 }
 
 namespace {
 
 /// One line per measured tip: initiation, angle, speeds against c_R, branchings.
-void log_cracks(const io::CrackReport& report) {
+void log_cracks(RunLog& log, const io::CrackReport& report) {
   const double c_r = report.rayleigh_speed;
   for (const auto& c : report.cracks) {
     auto text = [](const std::optional<double>& v, const char* format) {
       return v ? fmt::format(fmt::runtime(format), *v) : std::string("none");
     };
-    fmt::print(
+    log.line(fmt::format(
         "dhpd: crack {}: initiation {} s, angle {} deg at {} horizons, {} deg at the end, max "
-        "speed "
-        "{} m/s ({} c_R), mean {} m/s, {} branching(s){}\n",
+        "speed {} m/s ({} c_R), mean {} m/s, {} branching(s){}",
         c.name, text(c.initiation_time, "{:.4g}"), text(c.initial_angle_deg, "{:.1f}"),
         measure::kInitialHorizons, text(c.angle_deg, "{:.1f}"), text(c.max_speed, "{:.4g}"),
         text(c.max_speed ? std::optional<double>(*c.max_speed / c_r) : std::nullopt, "{:.2f}"),
@@ -94,35 +92,35 @@ void log_cracks(const io::CrackReport& report) {
         c.branch_times.empty()
             ? ""
             : fmt::format(" at {:.4g} s (tip speed {:.4g} m/s)", fmt::join(c.branch_times, ", "),
-                          fmt::join(c.branch_speeds, ", ")));
+                          fmt::join(c.branch_speeds, ", "))));
   }
 }
 
 }  // namespace
 
-void log_start(const scene::Scene& s, const Simulation& sim, std::int64_t steps,
+void log_start(RunLog& log, const scene::Scene& s, const Simulation& sim, std::int64_t steps,
                const fs::path& dir) {
-  fmt::print("dhpd: scene '{}' ({}), {}D, model {}, partial volume {}\n", s.name, s.file,
-             s.dimension, to_string(s.model), to_string(s.partial_volume));
-  fmt::print(
-      "dhpd: {} particles, {} bonds, {} interactions; dt = {:.4g} s (stable {:.4g} s), {} steps\n",
+  log.line(fmt::format("dhpd: scene '{}' ({}), {}D, model {}, partial volume {}", s.name, s.file,
+                       s.dimension, to_string(s.model), to_string(s.partial_volume)));
+  log.line(fmt::format(
+      "dhpd: {} particles, {} bonds, {} interactions; dt = {:.4g} s (stable {:.4g} s), {} steps{}",
       sim.particles().size(), sim.bonds().size(), sim.interactions().size(), sim.dt(),
-      sim.critical_dt(), steps);
-  fmt::print("dhpd: active effects: elasticity{}{}; threads {}; output in {}\n",
-             s.effects.fracture ? ", fracture" : "", s.refinement ? ", refinement" : "",
-             omp_get_max_threads(), dir.string());
+      sim.critical_dt(), steps, s.refinement ? " at the start (refinement shortens dt)" : ""));
+  log.line(fmt::format("dhpd: active effects: elasticity{}{}; threads {}; output in {}",
+                       s.effects.fracture ? ", fracture" : "", s.refinement ? ", refinement" : "",
+                       omp_get_max_threads(), dir.string()));
 }
 
-void log_end(const io::Summary& sum) {
-  fmt::print(
-      "dhpd: {} in {:.3f} s: {} steps, {} broken bonds, {:.3g} bond updates/s, {:.3g} "
-      "particle-steps/s\n",
-      sum.status, sum.wall_seconds, sum.steps, sum.broken_bonds, sum.bond_updates_per_second,
-      sum.particle_steps_per_second);
+void log_end(RunLog& log, const io::Summary& sum) {
+  log.line(
+      fmt::format("dhpd: {} in {:.3f} s: {} steps, {} broken bonds, {:.3g} bond updates/s, {:.3g} "
+                  "particle-steps/s, peak memory {:.0f} MB",
+                  sum.status, sum.wall_seconds, sum.steps, sum.broken_bonds,
+                  sum.bond_updates_per_second, sum.particle_steps_per_second, sum.peak_memory_mb));
   std::string phases;
   for (const auto& p : sum.phases) phases += fmt::format(" {} {:.3f} s;", p.name, p.seconds);
-  fmt::print("dhpd: time per phase:{}\n", phases);
-  if (sum.cracks) log_cracks(*sum.cracks);
+  log.line(fmt::format("dhpd: time per phase:{}", phases));
+  if (sum.cracks) log_cracks(log, *sum.cracks);
 }
 
 }  // namespace dhpd::run

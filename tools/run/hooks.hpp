@@ -12,6 +12,7 @@
 #include "refine/refiner.hpp"
 #include "tools/measure/crack_measure.hpp"
 #include "tools/output/text_outputs.hpp"
+#include "tools/run/run_log.hpp"
 #include "tools/scene/scene.hpp"
 
 namespace dhpd::run {
@@ -66,12 +67,12 @@ class Schedule {
 
 /// The refiner of a scene with effects.refinement and its log (refinement.csv).
 struct RefinementHook {
-  RefinementHook(const refine::Settings& settings, bool echo_lines)
-      : refiner(settings), echo(echo_lines) {}
+  RefinementHook(const refine::Settings& settings, RunLog& run_log)
+      : refiner(settings), log_lines(run_log) {}
   refine::Refiner refiner;
   std::vector<refine::RefinementEvent> pending;  ///< zone events applied before the output existed
   std::unique_ptr<io::RefinementWriter> csv;
-  bool echo = true;
+  RunLog& log_lines;
   std::int64_t events = 0;
 
   /// One row of refinement.csv (and a log line) for an event.
@@ -109,8 +110,8 @@ struct CrackHook {
 /// Per material of the scene: its particles, the bonds they own and how many of those are broken.
 std::vector<io::MaterialCount> material_counts(const scene::Scene& s, const Simulation& sim);
 
-void log_start(const scene::Scene& s, const Simulation& sim, std::int64_t steps,
+void log_start(RunLog& log, const scene::Scene& s, const Simulation& sim, std::int64_t steps,
                const std::filesystem::path& dir);
-void log_end(const io::Summary& sum);
+void log_end(RunLog& log, const io::Summary& sum);
 
 }  // namespace dhpd::run

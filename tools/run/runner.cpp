@@ -4,24 +4,35 @@
 #include <fmt/format.h>
 #include <omp.h>
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <functional>
 #include <iostream>
 #include <memory>
+#include <sstream>
+#include <thread>
 
 #include "engine/base/errors.hpp"
 #include "engine/checkpoint/checkpoint.hpp"
 #include "refine/refiner.hpp"
+#include "tools/cli/version.hpp"
 #include "tools/output/frame_fields.hpp"
 #include "tools/output/text_outputs.hpp"
+#include "tools/output/units.hpp"
 #include "tools/output/vtk_writer.hpp"
 #include "tools/run/checkpoints.hpp"
 #include "tools/run/hooks.hpp"
+#include "tools/run/provenance.hpp"
 #include "tools/run/restart.hpp"
+#include "tools/run/run_context.hpp"
+#include "tools/run/run_folder.hpp"
+#include "tools/run/run_log.hpp"
 #include "tools/run/signals.hpp"
 #include "tools/scene/build.hpp"
+#include "tools/scene/estimate.hpp"
+#include "tools/scene/warnings.hpp"
 
 namespace dhpd {
 namespace {
@@ -29,138 +40,19 @@ namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 using run::CrackHook;
+using run::LastGood;
+using run::output_field_names;
 using run::RefinementHook;
+using run::RunContext;
 using run::Schedule;
 
-std::vector<std::string> output_field_names(const scene::Scene& s) {
-  auto names = scene::default_fields();
-  for (const auto& f : s.output.fields) names.push_back(f);
-  return names;
-}
-
-io::HistoryRow history_row(const Simulation& sim, const Energies& e) {
-  io::HistoryRow r;
-  r.step = sim.steps_done();
-  r.time = sim.time();
-  r.dt = sim.dt();
-  r.particles = static_cast<std::int64_t>(sim.particles().size());
-  r.bonds = static_cast<std::int64_t>(sim.bonds().size());
-  r.broken_bonds = sim.broken_bonds();
-  r.kinetic_energy = e.kinetic;
-  r.strain_energy = e.strain;
-  r.external_work = e.external_work;
-  for (int a = 0; a < 3; ++a) r.momentum[a] = e.momentum[a];
-  return r;
-}
-
-/// The newest state that passed the guard's full check (Simulation::check_stable), kept in memory
-/// so an unstable run can still write it as its final frame and checkpoint. Taken at history rows
-/// at most every kLastGoodEvery steps (the branching plate: 5 copies and 46 history checks
-/// together take 0.1 s of a 3.9 s run).
-struct LastGood {
-  static constexpr std::int64_t kLastGoodEvery = 100;
-  std::vector<std::byte> simulation;
-  RunState run;
-  std::optional<measure::CrackTracker> cracks;
-  std::int64_t step = -1;
-};
-
-struct RunContext {
-  const scene::Scene& scene;
-  Simulation& sim;
-  io::FrameSeries frames;
-  io::HistoryWriter history;
-  std::vector<std::string> fields;
-  CrackHook* cracks = nullptr;     ///< with `measure` only
-  RefinementHook* hook = nullptr;  ///< with `effects.refinement` only
-  Schedule* schedule = nullptr;
-  RunState* state = nullptr;  ///< what a checkpoint saves besides the simulation
-  std::string scene_text{};   ///< checkpoint_scene_text of the scene
-  fs::path checkpoint_file{};
-  std::function<double()> elapsed{};  ///< wall seconds of this process
-  double wall_before = 0.0;           ///< wall seconds of the runs this one continues
-  bool echo = true;                   ///< a log line per checkpoint
-  LastGood good{};
-
-  /// Measures the cracks at measurement steps and at the last step.
-  void measure(bool last) {
-    if (cracks && (last || cracks->tracker.due(sim.steps_done()))) cracks->take_measurement(sim);
-  }
-  void write_frame() {
-    auto t = sim.timers().scope(Phase::Output);
-    if (sim.setup().effects.fracture) sim.update_damage();
-    frames.write(sim.time(), sim.steps_done(), io::frame_points(sim),
-                 io::frame_fields(sim, fields));
-  }
-  void record(bool frame) {
-    const auto e = sim.energies();
-    sim.check_stable(e);  // throws before anything of this state is written
-    {
-      auto t = sim.timers().scope(Phase::Output);
-      history.write(history_row(sim, e));
-    }
-    if (frame) write_frame();
-    if (good.step < 0 || sim.steps_done() - good.step >= LastGood::kLastGoodEvery) keep_good();
-  }
-  /// The run loop's state now (what a checkpoint of the current state saves).
-  RunState run_state() {
-    RunState st = *state;
-    st.schedule_position = schedule->position();
-    st.frames = frames.entries();
-    st.history_bytes = history.bytes();
-    st.refinement_bytes = hook ? hook->csv->bytes() : 0;
-    st.cracks_bytes = cracks ? cracks->csv.bytes() : 0;
-    st.refinement_events = hook ? hook->events : 0;
-    st.wall_seconds = wall_before + elapsed();
-    return st;
-  }
-  void keep_good() {
-    auto t = sim.timers().scope(Phase::Diagnostics);
-    save_simulation_into(sim, good.simulation);  // in place: never two copies at once
-    good.run = run_state();
-    if (cracks) good.cracks = cracks->tracker;
-    good.step = sim.steps_done();
-  }
-  /// After the guard stopped the run: the last good state becomes the final frame (unless a later
-  /// good frame exists) and the checkpoint. Returns what was written, for the message.
-  std::string write_last_good() {
-    if (good.step < 0) return "";
-    load_simulation(good.simulation, sim, "the last good state");
-    if (cracks && good.cracks) cracks->tracker = *good.cracks;
-    const auto& written = frames.entries();
-    const bool good_frame = !written.empty() && written.back().first >= sim.time();
-    if (!good_frame) {
-      write_frame();
-      good.run.frames = frames.entries();
-    }
-    write_checkpoint(checkpoint_file.string(), sim, good.run, scene_text);
-    return fmt::format(
-        "; the last good state (step {}, t = {:.6g} s) is in {}{}", good.step, sim.time(),
-        checkpoint_file.string(),
-        good_frame ? " and the last frame passed the check" : " and written as the final frame");
-  }
-  /// Whether step k writes a checkpoint: every output.checkpoint_every steps (never for 0).
-  bool checkpoint_due(std::int64_t k) const {
-    const auto every = scene.output.checkpoint_every;
-    return every && *every > 0 && k % *every == 0;
-  }
-  /// The checkpoint of the state after the current step; it changes no state of the run.
-  void checkpoint() {
-    auto& st = *state;
-    st = run_state();
-    auto t = sim.timers().scope(Phase::Output);
-    const auto begin = Clock::now();
-    const auto bytes = write_checkpoint(checkpoint_file.string(), sim, st, scene_text);
-    if (echo)
-      fmt::print("dhpd: checkpoint after step {}: {} ({:.1f} MB in {:.3f} s)\n", sim.steps_done(),
-                 checkpoint_file.string(), static_cast<double>(bytes) / 1e6,
-                 std::chrono::duration<double>(Clock::now() - begin).count());
-  }
-};
-
 io::Summary make_summary(const scene::Scene& s, const Simulation& sim, double wall,
-                         std::int64_t particles_start) {
+                         std::int64_t particles_start, const RunOptions& opt) {
   io::Summary sum;
+  sum.version = dhpd_version();
+  sum.commit = dhpd_commit();
+  sum.command_line = run::shell_command(opt.command_words);
+  sum.peak_memory_mb = run::peak_memory_mb();
   sum.scene_name = s.name;
   sum.scene_file = s.file;
   sum.wall_seconds = wall;
@@ -193,11 +85,14 @@ io::Summary make_summary(const scene::Scene& s, const Simulation& sim, double wa
   if (!ctx.checkpoint_due(k)) ctx.checkpoint();
   if (!frame_written) ctx.write_frame();
   const char* name = signal == SIGINT ? "SIGINT" : "SIGTERM";
-  throw RunInterrupted(
-      signal, fmt::format("{} after step {} (t = {:.6g} s); checkpoint {}; continue with: dhpd run "
-                          "{} --out DIR --restart {}",
-                          name, k, ctx.sim.time(), ctx.checkpoint_file.string(), ctx.scene.file,
-                          ctx.checkpoint_file.parent_path().string()));
+  const auto dir = ctx.checkpoint_file.parent_path().string();
+  const auto again = ctx.command_words.empty()
+                         ? fmt::format("dhpd run {} -o {} --restart {}", ctx.scene.file, dir, dir)
+                         : run::restart_command(ctx.command_words, dir);
+  throw RunInterrupted(signal,
+                       fmt::format("{} after step {} (t = {:.6g} s); checkpoint {}; "
+                                   "continue with: {}",
+                                   name, k, ctx.sim.time(), ctx.checkpoint_file.string(), again));
 }
 
 /// Steps until the schedule says the run is over; refinement checks after each due step, crack
@@ -215,7 +110,8 @@ void time_loop(RunContext& ctx, io::Progress& progress) {
   const InterruptSignals signals;
   for (std::int64_t k = first; !schedule.finished(k - 1, sim.time()); ++k) {
     sim.step();
-    if (hook && hook->refiner.due(k)) {
+    // A signal already caught starts no refinement event: the run stops after this step.
+    if (hook && hook->refiner.due(k) && !signals.caught()) {
       const auto ev = hook->refiner.check(sim);
       if (ev.parents > 0) hook->log(sim, ev);
     }
@@ -232,7 +128,13 @@ void time_loop(RunContext& ctx, io::Progress& progress) {
     }
   }
   progress.finish();
-  if (ctx.scene.output.checkpoint_every.value_or(1) != 0) ctx.checkpoint();
+  if (ctx.scene.output.checkpoint_every.value_or(1) == 0) return;
+  try {  // the run is complete: a checkpoint that cannot be written does not undo it
+    ctx.checkpoint();
+  } catch (const IoError& e) {
+    ctx.unsaved = std::string("the final checkpoint was not written: ") + e.what();
+    ctx.log->line("dhpd: warning: " + ctx.unsaved);
+  }
 }
 
 /// The CSV files whose length a checkpoint records.
@@ -257,29 +159,39 @@ void start_run(const scene::Scene& s, Simulation& sim, RefinementHook* hook, Run
 
 /// A restarted run: the simulation and `st` from the checkpoint; returns the first run's folder.
 /// Everything is checked before anything is written.
-fs::path resume_run(const scene::Scene& s, const RunOptions& opt, Simulation& sim, RunState& st) {
+fs::path resume_run(const scene::Scene& s, const RunOptions& opt, Simulation& sim, RunState& st,
+                    run::RunLog& log) {
   const auto file = checkpoint_path(*opt.restart_from);
   load_checkpoint(file, sim, st, checkpoint_scene_text(s));
   const fs::path from = fs::path(file).has_parent_path() ? fs::path(file).parent_path() : ".";
   check_restart_outputs(from, st, csv_lengths(s, st));
-  if (opt.echo)
-    fmt::print("dhpd: restarting from {} after step {} (t = {:.6g} s)\n", file, sim.steps_done(),
-               sim.time());
+  log.line(fmt::format("dhpd: restarting from {} after step {} (t = {:.6g} s)", file,
+                       sim.steps_done(), sim.time()));
   return from;
 }
 
-/// Creates `dir`; restarting, continues the first run's outputs there; otherwise removes the
-/// checkpoints of an older run whose outputs this one replaces.
+/// Creates `dir` (run::claim_folder has made sure no other run's outputs are in it); restarting,
+/// continues the first run's outputs there.
 void prepare_folder(const scene::Scene& s, const fs::path& dir, const std::optional<fs::path>& from,
                     const RunState& state) {
-  fs::create_directories(dir);
-  if (from) {
-    continue_outputs(*from, dir, state, csv_lengths(s, state));
-    return;
-  }
   std::error_code ec;
-  fs::remove(dir / "checkpoint.bin", ec);
-  fs::remove(dir / "checkpoint.prev.bin", ec);
+  fs::create_directories(dir, ec);
+  if (ec || !fs::is_directory(dir))
+    throw IoError(fmt::format("cannot create the output folder '{}': {}", dir.string(),
+                              ec ? ec.message() : "a file of that name is in the way"));
+  if (from) continue_outputs(*from, dir, state, csv_lengths(s, state));
+}
+
+/// The folder of a --restart argument (a folder, or a checkpoint file in one).
+fs::path run_folder_of(const std::string& restart) {
+  const fs::path p(restart);
+  if (fs::is_directory(p)) return p;
+  return p.has_parent_path() ? p.parent_path() : fs::path(".");
+}
+
+bool same_folder(const fs::path& a, const fs::path& b) {
+  std::error_code ec;
+  return fs::equivalent(a, b, ec) || fs::weakly_canonical(a, ec) == fs::weakly_canonical(b, ec);
 }
 
 /// Opens (or, restarting, continues) the outputs in `dir`.
@@ -289,7 +201,10 @@ RunContext open_outputs(const scene::Scene& s, Simulation& sim, const fs::path& 
   resolved.output.directory = dir.string();  // where this run really writes
   io::write_text_atomically((dir / "scene.resolved.yaml").string(),
                             scene::resolved_yaml(resolved) + "---\n" + state.derived_text);
-  RunContext ctx{s, sim, io::FrameSeries(dir.string(), s.name),
+  std::vector<std::string> materials;
+  for (const auto& m : s.materials) materials.push_back(m.name);
+  io::write_text_atomically((dir / "units.json").string(), io::units_json());
+  RunContext ctx{s, sim, io::FrameSeries(dir.string(), s.name, materials),
                  io::HistoryWriter((dir / "history.csv").string(), resumed), output_field_names(s)};
   if (resumed) ctx.frames.resume(state.frames);
   ctx.state = &state;
@@ -299,29 +214,85 @@ RunContext open_outputs(const scene::Scene& s, Simulation& sim, const fs::path& 
   return ctx;
 }
 
+/// Before each refinement event: a line for a large one, and a stop (ResourceLimit) for one whose
+/// result would not fit the budget: the resident memory now plus the children's particles and about
+/// 3·2^d·(bonds per particle) bonds per parent (their own rows, the neighbours' rows that reach
+/// them, the garbage the moved rows leave until the next compaction), with the state kept twice.
+refine::Refiner::EventCheck event_check(run::RunLog& log, double budget, bool given) {
+  return [&log, budget, given](const Simulation& sim, std::size_t parents) {
+    const int dim = sim.particles().dim();
+    const double split = std::pow(2.0, dim), n = static_cast<double>(parents);
+    const double per_particle_bonds =
+        static_cast<double>(sim.bonds().size()) / std::max<double>(1.0, sim.particles().size());
+    const auto per = state_bytes(sim.setup().model);
+    // What the process holds now (program, libraries, state, its last good copy), or at least
+    // the state twice.
+    const double now = std::max(scene::estimated_memory_bytes(sim), run::current_memory_mb() * 1e6);
+    const double after = now + 2.0 * n *
+                                   ((split - 1.0) * per.per_particle +
+                                    3.0 * split * per_particle_bonds * per.per_bond);
+    if (parents >= 10000)
+      log.line(
+          fmt::format("dhpd: refinement: splitting {} parents at step {} (a large event; "
+                      "about {:.0f} MB after it)",
+                      parents, sim.steps_done(), after / 1e6));
+    if (after > budget)
+      throw ResourceLimit(fmt::format(
+          "refinement stopped before splitting {} parents at step {} (t = {:.6g} s): the run "
+          "would need about {:.3g} GB, more than the {:.3g} GB {} (the run has {} particles; "
+          "lower max_level, raise the triggers, limit refinement with `within`{})",
+          parents, sim.steps_done(), sim.time(), after / 1e9, budget / 1e9,
+          given ? "--max-memory allows" : "available", sim.particles().size(),
+          given ? ", or raise --max-memory" : ""));
+  };
+}
+
 }  // namespace
 
 void run_scene(const scene::Scene& s, const RunOptions& opt) {
   if (opt.threads > 0) omp_set_num_threads(opt.threads);
   const auto start = Clock::now();
+  run::RunLog log(opt.echo);
+  const fs::path dir = opt.output_directory.value_or(s.output.directory);
+  // The folder: another run's outputs are refused before anything is built or written.
+  const bool own_folder = opt.restart_from && same_folder(run_folder_of(*opt.restart_from), dir);
+  if (!own_folder && !opt.overwrite)
+    run::claim_folder(dir, false, opt.restart_from ? "the restarted run" : "a new run");
+  const auto estimate = scene::estimate_resources(s);
+  const double budget = scene::memory_budget_bytes(opt.max_memory_mb);
+  scene::refuse_if_too_big(s, estimate, budget, opt.max_memory_mb.has_value());
+  log.line(
+      fmt::format("dhpd: set-up: about {:.4g} particles, {:.4g} bonds, {:.0f} MB (of {:.0f} "
+                  "MB available)",
+                  estimate.particles, estimate.bonds, estimate.bytes / 1e6, budget / 1e6));
   auto sim = scene::build_simulation(s);  // every check happens here, before any output
   std::unique_ptr<RefinementHook> hook;
-  if (s.refinement) hook = std::make_unique<RefinementHook>(s.refinement->settings, opt.echo);
+  if (s.refinement) hook = std::make_unique<RefinementHook>(s.refinement->settings, log);
   std::optional<measure::CrackTracker> tracker;
   if (s.measure) tracker.emplace(s.measure->settings);
   RunState state;
   state.cracks = tracker ? &*tracker : nullptr;
   std::optional<fs::path> from;
   if (opt.restart_from)
-    from = resume_run(s, opt, *sim, state);
+    from = resume_run(s, opt, *sim, state, log);
   else
     start_run(s, *sim, hook.get(), state);
-  const fs::path dir = opt.output_directory.value_or(s.output.directory);
+  if (!own_folder && opt.overwrite) run::claim_folder(dir, true, "");
   prepare_folder(s, dir, from, state);
+  log.open((dir / "run.log").string(), from.has_value() && same_folder(*from, dir));
   auto ctx = open_outputs(s, *sim, dir, state, from.has_value());
-  if (opt.echo) run::log_start(s, *sim, state.planned_steps, dir);
+  run::log_start(log, s, *sim, state.planned_steps, dir);
+  auto warnings = scene::scene_warnings(s, *sim, state.planned_steps);
+  if (const int cores = static_cast<int>(std::thread::hardware_concurrency());
+      cores > 0 && omp_get_max_threads() > cores)
+    warnings.push_back(
+        fmt::format("--threads {}: this machine has {} cores; more threads than "
+                    "cores only slow the run down",
+                    omp_get_max_threads(), cores));
+  for (const auto& w : warnings) log.line("dhpd: warning: " + w);
   if (hook) {
     hook->refiner.prepare(*sim);  // the events' search, before the first one is timed
+    hook->refiner.set_event_check(event_check(log, budget, opt.max_memory_mb.has_value()));
     hook->events = state.refinement_events;
     hook->csv =
         std::make_unique<io::RefinementWriter>((dir / "refinement.csv").string(), from.has_value());
@@ -338,18 +309,20 @@ void run_scene(const scene::Scene& s, const RunOptions& opt) {
   ctx.cracks = cracks.get();
   ctx.hook = hook.get();
   ctx.schedule = &schedule;
-  ctx.echo = opt.echo;
+  ctx.log = &log;
+  ctx.command_words = opt.command_words;
   ctx.elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
   io::Progress progress(state.planned_steps, opt.progress && io::Progress::wanted(),
-                        sim->steps_done());
+                        sim->steps_done(), s.time.end);
   const auto finish = [&](const char* status, const std::string& message) {
-    auto sum = make_summary(s, *sim, ctx.wall_before + ctx.elapsed(), state.particles_start);
+    auto sum = make_summary(s, *sim, ctx.wall_before + ctx.elapsed(), state.particles_start, opt);
     sum.status = status;
     sum.message = message;
+    sum.warnings = warnings;
     sum.refinement_events = hook ? hook->events : 0;
     if (cracks) sum.cracks = cracks->report();
     io::write_summary((dir / "summary.json").string(), sum);
-    if (opt.echo) run::log_end(sum);
+    run::log_end(log, sum);
   };
   try {
     time_loop(ctx, progress);
@@ -361,14 +334,65 @@ void run_scene(const scene::Scene& s, const RunOptions& opt) {
   } catch (const RunInterrupted& e) {
     finish("interrupted", e.what());
     throw;
+  } catch (const IoError& e) {
+    progress.finish();
+    // The summary is written when the disk still takes it; every frame already written is whole.
+    std::string message = e.what();
+    try {
+      finish("io_error", message);
+    } catch (const IoError& again) {
+      message += std::string("; summary.json could not be written either: ") + again.what();
+    }
+    throw IoError(message);
+  } catch (const ResourceLimit& e) {
+    progress.finish();
+    // The event was refused before it changed anything: the current state is whole.
+    const std::string message = e.what() + ctx.write_current();
+    finish("resource_limit", message);
+    throw ResourceLimit(message);
   }
-  finish("completed", "");
+  finish("completed", ctx.unsaved);
 }
 
-void check_scene(const scene::Scene& s, std::ostream& out) {
-  auto sim = scene::build_simulation(s);
+void check_scene(const scene::Scene& s, std::ostream& printed, bool build,
+                 std::optional<double> max_memory_mb) {
+  std::ostringstream out;  // printed only when the whole check passes: an error prints nothing else
+  const auto estimate = scene::estimate_resources(s);
+  const double budget = scene::memory_budget_bytes(max_memory_mb);
   out << "scene '" << s.name << "' (" << s.file << ") is valid\n";
+  out << scene::estimate_yaml(estimate, budget);
+  if (estimate.bytes > budget)
+    out << fmt::format(
+        "warning: about {:.3g} GB needed, {:.3g} GB available: `dhpd run` refuses "
+        "it\n",
+        estimate.bytes / 1e9, budget / 1e9);
+  else if (estimate.bytes > 0.5 * budget)
+    out << fmt::format(
+        "warning: about {:.3g} GB needed, more than half of the {:.3g} GB "
+        "available\n",
+        estimate.bytes / 1e9, budget / 1e9);
+  if (estimate.bytes_worst > budget && estimate.particles_worst > estimate.particles)
+    out << fmt::format(
+        "warning: refinement could reach {:.3g} GB (every particle split down to "
+        "max_level); the run stops cleanly before an event that would not fit\n",
+        estimate.bytes_worst / 1e9);
+  // A small scene is built anyway (about 0.5 s per million bonds here), so `check` finds every
+  // error `run` would (regions that select nothing, a fixed step above the stable one).
+  constexpr double kBuildWithoutAskingBonds = 1e6;
+  if (!build && estimate.bonds > kBuildWithoutAskingBonds) {
+    out << fmt::format(
+        "built: no (about {:.3g} bonds; `dhpd check --build` builds the body and "
+        "checks its regions, stable step and derived constants)\n",
+        estimate.bonds);
+    printed << out.str();
+    return;
+  }
+  scene::refuse_if_too_big(s, estimate, budget, max_memory_mb.has_value());
+  auto sim = scene::build_simulation(s);
+  for (const auto& w : scene::scene_warnings(s, *sim, scene::planned_steps(s, sim->dt())))
+    out << "warning: " << w << "\n";
   out << scene::derived_yaml(s, *sim);
+  printed << out.str();
 }
 
 }  // namespace dhpd

@@ -4,6 +4,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "tools/scene/scene.hpp"
 
@@ -16,6 +17,19 @@ struct RunOptions {
   bool echo = true;                             ///< log lines on stdout
   /// Continue from this folder's checkpoint.bin (or this checkpoint file) instead of starting.
   std::optional<std::string> restart_from;
+  /// Replace another run's outputs in the output folder (else such a folder is refused).
+  bool overwrite = false;
+  /// The memory the run may use, MB (default: the machine's available memory).
+  std::optional<double> max_memory_mb;
+  /// The command line's words as typed (summary.json records them; the restart hint reuses them).
+  std::vector<std::string> command_words;
+};
+
+/// A refinement event would have taken the run past its memory budget: the run stopped before
+/// it, with its last good state written (summary.json status "resource_limit"; exit 4).
+class ResourceLimit : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
 };
 
 /// SIGINT or SIGTERM stopped the run after it wrote a checkpoint, a final frame and summary.json
@@ -35,7 +49,10 @@ class RunInterrupted : public std::runtime_error {
 /// "unstable") when the run blows up, RunInterrupted on SIGINT/SIGTERM.
 void run_scene(const scene::Scene& scene, const RunOptions& options);
 
-/// Validates the scene, builds the simulation and prints the derived quantities.
-void check_scene(const scene::Scene& scene, std::ostream& out);
+/// `dhpd check`: the scene is valid; the resource estimate (well under a second, no bond built);
+/// then, when `build` is asked or the scene is small (at most 1e6 bonds), the simulation is built,
+/// checked as `run` would check it, and its warnings and derived values printed.
+void check_scene(const scene::Scene& scene, std::ostream& out, bool build,
+                 std::optional<double> max_memory_mb);
 
 }  // namespace dhpd

@@ -63,28 +63,6 @@ geometry::PointSet part_points(const Scene& s, std::size_t p) {
   return read_points_file(part.points_file, options);
 }
 
-/// Every part's particles in order; a point inside a later lattice or mesh part's shape is
-/// dropped (that part wins).
-geometry::PointSet body_points(const Scene& s) {
-  geometry::PointSet out;
-  for (std::size_t p = 0; p < s.body.size(); ++p) {
-    const auto pts = part_points(s, p);
-    for (std::size_t i = 0; i < pts.size(); ++i) {
-      bool overridden = false;
-      for (std::size_t q = p + 1; q < s.body.size() && !overridden; ++q)
-        overridden = s.body[q].kind != PartKind::PointsFile &&
-                     s.body[q].shape.contains(pts.position[i], s.dimension);
-      if (overridden) continue;
-      out.position.push_back(pts.position[i]);
-      out.cell_measure.push_back(pts.cell_measure[i]);
-      out.spacing.push_back(pts.spacing[i]);
-      out.material.push_back(pts.material[i]);
-      out.part.push_back(pts.part[i]);
-    }
-  }
-  return out;
-}
-
 std::string point_text(const geometry::Vec3& x, int dim) {
   return fmt::format("[{}]", fmt::join(x.begin(), x.begin() + dim, ", "));
 }
@@ -109,6 +87,28 @@ void check_points(const Scene& s, const geometry::PointSet& pts) {
 }
 
 }  // namespace
+
+/// Every part's particles in order; a point inside a later lattice or mesh part's shape is
+/// dropped (that part wins).
+geometry::PointSet body_points(const Scene& s) {
+  geometry::PointSet out;
+  for (std::size_t p = 0; p < s.body.size(); ++p) {
+    const auto pts = part_points(s, p);
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+      bool overridden = false;
+      for (std::size_t q = p + 1; q < s.body.size() && !overridden; ++q)
+        overridden = s.body[q].kind != PartKind::PointsFile &&
+                     s.body[q].shape.contains(pts.position[i], s.dimension);
+      if (overridden) continue;
+      out.position.push_back(pts.position[i]);
+      out.cell_measure.push_back(pts.cell_measure[i]);
+      out.spacing.push_back(pts.spacing[i]);
+      out.material.push_back(pts.material[i]);
+      out.part.push_back(pts.part[i]);
+    }
+  }
+  return out;
+}
 
 bool consistent_interfaces(const Scene& s) {
   if (s.interfaces) return *s.interfaces;

@@ -4,9 +4,14 @@
 #include <string>
 
 #include "engine/simulation.hpp"
+#include "geometry/lattice.hpp"
 #include "tools/scene/scene.hpp"
 
 namespace dhpd::scene {
+
+/// Every part's particles in order (lattices filled, meshes meshed, points files read); a point
+/// inside a later lattice or mesh part's shape is dropped (that part wins).
+geometry::PointSet body_points(const Scene& scene);
 
 /// The setup the engine needs; throws InputError (with file:line) for a region that selects
 /// no particle and for parts that produce no particle.

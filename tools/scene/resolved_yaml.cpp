@@ -225,6 +225,7 @@ void emit_output(YAML::Emitter& out, const OutputSpec& output) {
   out << YAML::Key << "history_every" << YAML::Value << output.history_every;
   if (output.checkpoint_every)
     out << YAML::Key << "checkpoint_every" << YAML::Value << *output.checkpoint_every;
+  out << YAML::Key << "checkpoint_minutes" << YAML::Value << number_text(output.checkpoint_minutes);
   out << YAML::EndMap;
 }
 

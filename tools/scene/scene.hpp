@@ -103,6 +103,9 @@ struct OutputSpec {
   /// Steps between checkpoints (plus one at the end of the run); 0: none, not even at the end
   /// (SIGINT/SIGTERM still write one); absent: only at the end.
   std::optional<std::int64_t> checkpoint_every;
+  /// Also a checkpoint whenever this many minutes of wall time passed since the last one (a
+  /// killed run loses at most that much); 0: none by time. Off when checkpoint_every is 0.
+  double checkpoint_minutes = 10.0;
 };
 
 /// `effects.refinement` (docs/scenes.md): absent or `false` means no refiner at all.

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -57,7 +58,27 @@ const std::vector<std::string> kTopLevelKeys{"name",
                                              "output",
                                              "measure"};
 
+/// The first line whose indentation holds a tab (YAML indents with spaces only), 0 for none.
+int tab_indented_line(const std::string& text) {
+  int line = 1;
+  bool indent = true;
+  for (const char ch : text) {
+    if (ch == '\n') {
+      ++line;
+      indent = true;
+    } else if (indent && ch == '\t') {
+      return line;
+    } else if (ch != ' ') {
+      indent = false;
+    }
+  }
+  return 0;
+}
+
 YAML::Node parse_tree(const std::string& text, const std::string& file) {
+  if (const int line = tab_indented_line(text))
+    fail(Location{file, line, ""},
+         "a tab in the indentation: YAML indents with spaces only (allowed: spaces)");
   YAML::Node root;
   try {
     root = YAML::Load(text);
@@ -204,8 +225,8 @@ std::vector<std::string> read_fields(const Cursor& c) {
 }
 
 OutputSpec read_output(const Cursor& c) {
-  const MapView map(
-      c, {"directory", "every", "frames", "fields", "history_every", "checkpoint_every"});
+  const MapView map(c, {"directory", "every", "frames", "fields", "history_every",
+                        "checkpoint_every", "checkpoint_minutes"});
   OutputSpec out;
   if (const auto dir = map.get("directory")) {
     out.directory = dir->string();
@@ -225,6 +246,8 @@ OutputSpec read_output(const Cursor& c) {
       every->fail(fmt::format("checkpoint_every must be >= 0, got {}", *out.checkpoint_every),
                   ">= 0 (steps between checkpoints; 0: no checkpoint at all)");
   }
+  if (const auto minutes = map.get("checkpoint_minutes"))
+    out.checkpoint_minutes = detail::non_negative_number(*minutes);
   return out;
 }
 
@@ -282,6 +305,11 @@ Scene parse_scene(const std::string& text, const std::string& file,
 }
 
 Scene load_scene(const std::string& file, const std::vector<Override>& overrides) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(file, ec))
+    fail(Location{file, 0, ""},
+         "is a folder, not a scene file (allowed: a YAML scene file, "
+         "e.g. cases/branching_plate_uniform.yaml)");
   std::ifstream in(file);
   if (!in) fail(Location{file, 0, ""}, "cannot open the scene file");
   std::stringstream text;

@@ -35,6 +35,11 @@ void refuse_missing_axes(const Cursor& c, int dim) {
 }
 
 std::array<std::optional<double>, 3> read_velocity_components(const Cursor& c, int dim) {
+  if (!c.node().IsMap())
+    c.fail(fmt::format("a held velocity is a map of the components it holds, got {} (e.g. "
+                       "velocity: {{{}: 5.0}}; a component left out stays free)",
+                       c.describe(), axis_names(dim).back()),
+           "a map with keys " + join(axis_names(dim)));
   refuse_missing_axes(c, dim);
   const MapView map(c, axis_names(dim));
   if (map.entries().empty()) c.fail("give at least one velocity component", join(axis_names(dim)));

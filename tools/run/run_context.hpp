@@ -1,0 +1,171 @@
+// The state of one run loop between its parts (runner.cpp): the outputs it writes, the hooks, the
+// last good state the instability guard keeps, and checkpoints of the current state.
+#pragma once
+#include <fmt/format.h>
+#include <chrono>
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "engine/checkpoint/checkpoint.hpp"
+#include "engine/simulation.hpp"
+#include "tools/output/frame_fields.hpp"
+#include "tools/output/text_outputs.hpp"
+#include "tools/output/vtk_writer.hpp"
+#include "tools/run/checkpoints.hpp"
+#include "tools/run/hooks.hpp"
+#include "tools/run/run_log.hpp"
+#include "tools/scene/scene.hpp"
+
+namespace dhpd::run {
+
+namespace fs = std::filesystem;
+
+inline std::vector<std::string> output_field_names(const scene::Scene& s) {
+  auto names = scene::default_fields();
+  for (const auto& f : s.output.fields) names.push_back(f);
+  return names;
+}
+
+inline io::HistoryRow history_row(const Simulation& sim, const Energies& e) {
+  io::HistoryRow r;
+  r.step = sim.steps_done();
+  r.time = sim.time();
+  r.dt = sim.dt();
+  r.particles = static_cast<std::int64_t>(sim.particles().size());
+  r.bonds = static_cast<std::int64_t>(sim.bonds().size());
+  r.broken_bonds = sim.broken_bonds();
+  r.kinetic_energy = e.kinetic;
+  r.strain_energy = e.strain;
+  r.external_work = e.external_work;
+  for (int a = 0; a < 3; ++a) r.momentum[a] = e.momentum[a];
+  return r;
+}
+
+/// The newest state that passed the guard's full check (Simulation::check_stable), kept in memory
+/// so an unstable run can still write it as its final frame and checkpoint. Taken at history rows
+/// at most every kLastGoodEvery steps (the branching plate: 5 copies and 46 history checks
+/// together take 0.1 s of a 3.9 s run).
+struct LastGood {
+  static constexpr std::int64_t kLastGoodEvery = 100;
+  std::vector<std::byte> simulation;
+  RunState run;
+  std::optional<measure::CrackTracker> cracks;
+  std::int64_t step = -1;
+};
+
+struct RunContext {
+  const scene::Scene& scene;
+  Simulation& sim;
+  io::FrameSeries frames;
+  io::HistoryWriter history;
+  std::vector<std::string> fields;
+  CrackHook* cracks = nullptr;     ///< with `measure` only
+  RefinementHook* hook = nullptr;  ///< with `effects.refinement` only
+  Schedule* schedule = nullptr;
+  RunState* state = nullptr;  ///< what a checkpoint saves besides the simulation
+  std::string scene_text{};   ///< checkpoint_scene_text of the scene
+  fs::path checkpoint_file{};
+  std::function<double()> elapsed{};  ///< wall seconds of this process
+  double wall_before = 0.0;           ///< wall seconds of the runs this one continues
+  RunLog* log = nullptr;
+  std::string unsaved{};  ///< why the final checkpoint is missing (the run still completed) ///< a
+                          ///< log line per checkpoint
+  std::vector<std::string> command_words{};  ///< the command line, for the restart hint
+  LastGood good{};
+
+  /// Measures the cracks at measurement steps and at the last step.
+  void measure(bool last) {
+    if (cracks && (last || cracks->tracker.due(sim.steps_done()))) cracks->take_measurement(sim);
+  }
+  void write_frame() {
+    auto t = sim.timers().scope(Phase::Output);
+    if (sim.setup().effects.fracture) sim.update_damage();
+    frames.write(sim.time(), sim.steps_done(), io::frame_points(sim),
+                 io::frame_fields(sim, fields));
+  }
+  void record(bool frame) {
+    const auto e = sim.energies();
+    sim.check_stable(e);  // throws before anything of this state is written
+    {
+      auto t = sim.timers().scope(Phase::Output);
+      history.write(history_row(sim, e));
+    }
+    if (frame) write_frame();
+    if (good.step < 0 || sim.steps_done() - good.step >= LastGood::kLastGoodEvery) keep_good();
+  }
+  /// The run loop's state now (what a checkpoint of the current state saves).
+  RunState run_state() {
+    RunState st = *state;
+    st.schedule_position = schedule->position();
+    st.frames = frames.entries();
+    st.history_bytes = history.bytes();
+    st.refinement_bytes = hook ? hook->csv->bytes() : 0;
+    st.cracks_bytes = cracks ? cracks->csv.bytes() : 0;
+    st.refinement_events = hook ? hook->events : 0;
+    st.wall_seconds = wall_before + elapsed();
+    return st;
+  }
+  void keep_good() {
+    auto t = sim.timers().scope(Phase::Diagnostics);
+    save_simulation_into(sim, good.simulation);  // in place: never two copies at once
+    good.run = run_state();
+    if (cracks) good.cracks = cracks->tracker;
+    good.step = sim.steps_done();
+  }
+  /// After the guard stopped the run: the last good state becomes the final frame (unless a later
+  /// good frame exists) and the checkpoint. Returns what was written, for the message.
+  std::string write_last_good() {
+    if (good.step < 0) return "";
+    load_simulation(good.simulation, sim, "the last good state");
+    if (cracks && good.cracks) cracks->tracker = *good.cracks;
+    const auto& written = frames.entries();
+    const bool good_frame = !written.empty() && written.back().first >= sim.time();
+    if (!good_frame) {
+      write_frame();
+      good.run.frames = frames.entries();
+    }
+    write_checkpoint(checkpoint_file.string(), sim, good.run, scene_text);
+    return fmt::format(
+        "; the last good state (step {}, t = {:.6g} s) is in {}{}", good.step, sim.time(),
+        checkpoint_file.string(),
+        good_frame ? " and the last frame passed the check" : " and written as the final frame");
+  }
+  /// The current state as the checkpoint and the final frame (a run stopped between steps).
+  std::string write_current() {
+    const auto& written = frames.entries();
+    const bool have_frame = !written.empty() && written.back().first >= sim.time();
+    if (!have_frame) write_frame();
+    checkpoint();
+    return fmt::format("; the state of step {} (t = {:.6g} s) is in {}{}", sim.steps_done(),
+                       sim.time(), checkpoint_file.string(),
+                       have_frame ? " and its frame" : " and written as the final frame");
+  }
+  /// Whether step k writes a checkpoint: every output.checkpoint_every steps (never for 0), and
+  /// when output.checkpoint_minutes of wall time passed since the last one (or the start).
+  bool checkpoint_due(std::int64_t k) const {
+    const auto every = scene.output.checkpoint_every;
+    if (every && *every == 0) return false;
+    if (every && k % *every == 0) return true;
+    const double minutes = scene.output.checkpoint_minutes;
+    return minutes > 0 && elapsed() - last_checkpoint_wall >= 60.0 * minutes;
+  }
+  double last_checkpoint_wall = 0.0;  ///< wall seconds of this process at the last checkpoint
+  /// The checkpoint of the state after the current step; it changes no state of the run.
+  void checkpoint() {
+    auto& st = *state;
+    st = run_state();
+    auto t = sim.timers().scope(Phase::Output);
+    const auto begin = std::chrono::steady_clock::now();
+    const auto bytes = write_checkpoint(checkpoint_file.string(), sim, st, scene_text);
+    last_checkpoint_wall = elapsed();
+    log->line(fmt::format(
+        "dhpd: checkpoint after step {}: {} ({:.1f} MB in {:.3f} s)", sim.steps_done(),
+        checkpoint_file.string(), static_cast<double>(bytes) / 1e6,
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count()));
+  }
+};
+
+}  // namespace dhpd::run
