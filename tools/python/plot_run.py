@@ -7,18 +7,25 @@
 `plot` writes OUT/plots/:
   <field>_<k>.png   a frame field (default damage, fixed 0-1 scale), k = 0, 1, ...: 4 frames spread
                     evenly over the .pvd, or the frames nearest the --times (in s); 3D frames show
-                    the particles of the mid-thickness slice
+                    the particles of the mid-thickness slice; pre-cracks, notches, loaded and
+                    fixed regions drawn over them (run_overlay.py); x, y in mm, t in µs
+  contact_sheet.png up to 12 damage frames spread over the run in one grid
+  levels.png        refined runs: the last frame coloured by refinement level (one colour each)
   energies.png      kinetic, strain, external work and kinetic + strain - external vs time
   momentum.png      |P| vs time (log scale when positive)
   particles_dt.png  particle count and time step vs time
   tip_speed.png     with cracks.csv: speed of each crack tip vs time, with the Rayleigh speed
-  crack_path.png    with cracks.csv: the tip positions over the last damage frame
-`report` makes the plots when they are missing and writes OUT/report.md: the run, the pictures and
-a table of measured against published numbers (summary.json "published").
+  crack_path.png    with cracks.csv: every branch traced through the last frame's damage, branch
+                    points and times, the tip positions of cracks.csv (crack_path.py)
+`report` makes the plots when they are missing and writes OUT/report.md: the run, its provenance,
+what is missing, the pictures, the measured numbers beside the published and LEFM ones, the
+branches, the refinement settings and events (run_report.py).
 
-Optional inputs (frames, cracks.csv, the Rayleigh speed) are skipped with a note. Exit code 2 for a
-missing or incomplete run directory and for a missing Python module (named with its Debian
-package: python3-matplotlib, python3-numpy, python3-vtk9).
+Any run folder with history.csv rows or frames is read, whatever its status (killed: no
+summary.json; interrupted, unstable, io_error); what is missing is said in a note. Optional inputs
+(frames, cracks.csv, the Rayleigh speed) are skipped with a note. Exit code 2 for a folder with
+neither history rows nor frames and for a missing Python module (named with its Debian package:
+python3-matplotlib, python3-numpy, python3-scipy, python3-yaml, python3-vtk9).
 """
 import argparse
 import importlib
@@ -42,13 +49,16 @@ require("matplotlib", "python3-matplotlib").use("Agg")
 plt = require("matplotlib.pyplot", "python3-matplotlib")
 require("vtkmodules.vtkIOXML", "python3-vtk9")
 require("vtkmodules.util.numpy_support", "python3-vtk9")
+require("scipy.spatial", "python3-scipy")
+require("yaml", "python3-yaml")
 
 # The rest of the tool, beside this file (imported once the modules above are known to exist).
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import crack_path  # noqa: E402
 import run_report  # noqa: E402
+import run_sheets  # noqa: E402
 from run_data import US, InputError, load_run  # noqa: E402
-from run_frames import (draw_particles, frame_title, mid_slice, particles_figure,  # noqa: E402
-                        plot_frames, read_frame, save)
+from run_frames import plot_frames, save  # noqa: E402
 
 # ---- history and cracks -------------------------------------------------------------------------
 
@@ -60,7 +70,7 @@ def time_axes(run, ylabel, title):
     ax.set_ylabel(ylabel)
     ax.set_title(f"{run.name}: {title}")
     ax.grid(alpha=0.3)
-    return fig, ax, run.history["time"] * US
+    return fig, ax, run.history["time"] * US if run.has_history else None
 
 
 def plot_energies(run, png):
@@ -99,8 +109,8 @@ def plot_particles_dt(run, png):
     ax.yaxis.label.set_color("tab:blue")
     ax.tick_params(axis="y", colors="tab:blue")
     right = ax.twinx()
-    right.plot(t, h["dt"], "--", color="tab:orange", drawstyle="steps-post")
-    right.set_ylabel("dt (s)", color="tab:orange")
+    right.plot(t, h["dt"] * US, "--", color="tab:orange", drawstyle="steps-post")
+    right.set_ylabel("dt (µs)", color="tab:orange")
     right.tick_params(axis="y", colors="tab:orange")
     save(fig, png)
 
@@ -127,36 +137,42 @@ def plot_tip_speed(run, png):
     save(fig, png)
 
 
-def plot_crack_path(run, png):
-    """The tip positions of cracks.csv over the damage of the last frame (when there is one)."""
-    if run.frames:
-        frame = mid_slice(read_frame(run.frames[-1][1], "damage"))
-        fig, ax = particles_figure(frame)
-        draw_particles(fig, ax, frame, cmap="Greys", vmin=0.0, vmax=1.0, alpha=0.6)
-        title = frame_title(frame, f"{run.name}: crack tips over the damage")
-    else:
-        fig, ax = plt.subplots(figsize=(8, 6))
-        ax.set_aspect("equal")
-        ax.set_xlabel("x (m)")
-        ax.set_ylabel("y (m)")
-        title = f"{run.name}: crack tips (no frame to draw under them)"
-    for tip, rows in tips(run.cracks):
-        ax.plot(run.cracks["x"][rows], run.cracks["y"][rows], "o-", ms=3, label=tip_label(tip))
-    ax.set_title(title)
-    ax.legend()
-    save(fig, png)
-
-
 HISTORY_PLOTS = (("energies.png", plot_energies), ("momentum.png", plot_momentum),
                  ("particles_dt.png", plot_particles_dt))
-CRACK_PLOTS = (("tip_speed.png", plot_tip_speed), ("crack_path.png", plot_crack_path))
+CRACK_PLOTS = (("tip_speed.png", plot_tip_speed), ("crack_path.png", crack_path.plot_crack_path))
+
+
+def refined(run):
+    """Whether the run split particles (refinement.csv has children)."""
+    children = (run.refinement or {}).get("children")
+    return children is not None and float(children.sum()) > 0
+
+
+def plot_sheets(run):
+    """contact_sheet.png (frames) and levels.png (refined runs)."""
+    if not run.frames:
+        return
+    png = run.path("plots", "contact_sheet.png")
+    shown = run_sheets.save_contact_sheet(run, png)
+    if shown:
+        print(f"wrote {png}: {shown} damage frames")
+    if refined(run):
+        png = run.path("plots", "levels.png")
+        top = run_sheets.save_level_png(run, png)
+        if top is None:
+            run.notes.append("no levels.png: the frames have no `level` field")
+        else:
+            print(f"wrote {png}: refinement levels 0 to {top} of the last frame")
 
 
 def plot(run, name="damage", times=None):
     """Every picture the run's inputs allow, in OUT/plots/; notes for what was skipped."""
     os.makedirs(run.path("plots"), exist_ok=True)
     plot_frames(run, name, times)
-    for png, draw in HISTORY_PLOTS + (CRACK_PLOTS if run.cracks is not None else ()):
+    plot_sheets(run)
+    plots = (HISTORY_PLOTS if run.has_history else ()) + (
+        CRACK_PLOTS if run.cracks is not None else ())
+    for png, draw in plots:
         draw(run, run.path("plots", png))
         print(f"wrote {run.path('plots', png)}")
     for note in run.notes:
@@ -165,9 +181,13 @@ def plot(run, name="damage", times=None):
 
 def default_pictures(run):
     """The pictures `plot` makes by default for what the run holds (the report wants them)."""
-    wanted = [png for png, _ in HISTORY_PLOTS]
+    wanted = [png for png, _ in HISTORY_PLOTS] if run.has_history else []
     if run.cracks is not None:
         wanted += [png for png, _ in CRACK_PLOTS]
+    if run.frames and int((run.scene or {}).get("dimension", 2)) >= 2:
+        wanted.append("contact_sheet.png")  # 1D frames get none
+    if refined(run):
+        wanted.append("levels.png")
     return wanted
 
 

@@ -9,6 +9,9 @@ import xml.etree.ElementTree as ElementTree
 import numpy as np
 
 EXPECTED = "expected the output directory of a dhpd run, with summary.json and history.csv"
+# What plot and report need: a history or frames (a killed or failed run still has them).
+EXPECTED_ANY = ("expected the output directory of a dhpd run, with history.csv rows or frames "
+                "(written by 'dhpd run SCENE -o DIR')")
 CSV_FILES = ("history.csv", "cracks.csv", "refinement.csv")
 # refinement.csv's columns that measure wall time: they differ between identical runs.
 WALL_COLUMNS = {"seconds", "resort_seconds"}
@@ -100,9 +103,28 @@ def read_summary(directory):
         raise InputError(f"{path}: not valid JSON ({error})")
 
 
+def load_scene(directory):
+    """The resolved scene (scene.resolved.yaml's first document) and its `derived` map; (None,
+    {}) when the file is absent or does not read as YAML maps."""
+    import yaml  # only the scene readers need it
+
+    path = os.path.join(directory, "scene.resolved.yaml")
+    if not os.path.isfile(path):
+        return None, {}
+    try:
+        with open(path) as f:
+            documents = list(yaml.safe_load_all(f))
+    except (OSError, yaml.YAMLError):
+        return None, {}
+    scene = documents[0] if documents and isinstance(documents[0], dict) else None
+    derived = documents[1].get("derived", {}) if len(documents) > 1 and isinstance(
+        documents[1], dict) else {}
+    return scene, derived if isinstance(derived, dict) else {}
+
+
 def densities(directory):
     """rho of each material in the order of the resolved scene (the frame's material index)."""
-    import yaml  # only this reader needs it
+    import yaml
 
     with open(os.path.join(directory, "scene.resolved.yaml")) as f:
         scene = next(yaml.safe_load_all(f))

@@ -9,7 +9,18 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 import run_folder
-from run_data import US, InputError
+import run_overlay
+from run_data import MM, US, InputError
+
+try:  # a truncated frame makes VTK print a page of errors; read_frame says it in one line
+    from vtkmodules.vtkCommonCore import vtkObject
+    vtkObject.GlobalWarningDisplayOff()
+except ImportError:
+    pass
+
+
+class UnreadableFrame(Exception):
+    """A frame file VTK cannot read (e.g. truncated by a full disk): skipped with a note."""
 
 
 @dataclass
@@ -24,6 +35,7 @@ class Frame:
     step: int
     vector: bool = False
     slice_note: str = ""
+    z: float = 0.0  # the plane of a 3D frame's slice, m
 
     @property
     def dimension(self):
@@ -46,6 +58,8 @@ def estimated_spacing(points):
 def read_frame(path, name):
     """The positions, field `name`, spacing, time and step of a .vtu frame."""
     arrays, fields = run_folder.read_vtu(path)
+    if "points" not in arrays or len(arrays["points"]) == 0:
+        raise UnreadableFrame(f"{path}: not a readable VTK frame (truncated or empty)")
     if name not in arrays or name == "points":
         names = [k for k in arrays if k != "points"]
         raise InputError(f"{path}: no point field '{name}' (fields: {', '.join(names)})")
@@ -65,32 +79,50 @@ def mid_slice(frame):
     z = frame.points[:, 2]
     mid = 0.5 * (z.min() + z.max())
     keep = np.abs(z - mid) <= 0.5 * frame.spacing.max()
-    note = f"mid-thickness slice z ≈ {mid:.4g} m ({keep.sum()} of {len(z)} particles)"
+    note = f"mid-thickness slice z ≈ {mid * MM:.4g} mm ({keep.sum()} of {len(z)} particles)"
     return dataclasses.replace(frame, points=frame.points[keep], values=frame.values[keep],
-                               spacing=frame.spacing[keep], slice_note=note)
+                               spacing=frame.spacing[keep], slice_note=note, z=mid)
+
+
+def frame_box(frame):
+    """((x0, x1), (y0, y1)) of the particles padded by a spacing, m."""
+    pad = frame.spacing.max()
+    low, high = frame.points[:, :2].min(axis=0) - pad, frame.points[:, :2].max(axis=0) + pad
+    return (low[0], high[0]), (low[1], high[1])
+
+
+def frame_axes(ax, frame):
+    """Equal x-y axes in mm framing the particles."""
+    (x0, x1), (y0, y1) = frame_box(frame)
+    ax.set_xlim(x0 * MM, x1 * MM)
+    ax.set_ylim(y0 * MM, y1 * MM)
+    ax.set_aspect("equal")
+    ax.set_xlabel("x (mm)")
+    ax.set_ylabel("y (mm)")
 
 
 def particles_figure(frame):
-    """A figure and equal axes framing the x-y extent of the particles."""
-    pad = frame.spacing.max()
-    low, high = frame.points[:, :2].min(axis=0) - pad, frame.points[:, :2].max(axis=0) + pad
-    width, height = high - low
-    fig, ax = plt.subplots(figsize=(8, max(1.5, 8 * height / width) + 0.8))
-    ax.set_xlim(low[0], high[0])
-    ax.set_ylim(low[1], high[1])
-    ax.set_aspect("equal")
-    ax.set_xlabel("x (m)")
-    ax.set_ylabel("y (m)")
+    """A figure and equal axes in mm framing the x-y extent of the particles."""
+    (x0, x1), (y0, y1) = frame_box(frame)
+    fig, ax = plt.subplots(figsize=(8, max(1.5, 8 * (y1 - y0) / (x1 - x0)) + 0.8))
+    frame_axes(ax, frame)
     return fig, ax
 
 
-def draw_particles(fig, ax, frame, **style):
-    """The particles as squares as wide as their spacing, coloured by the frame's values."""
-    fig.canvas.draw()  # the axes' final size, to turn metres into points
-    points_per_metre = ax.get_window_extent().width * 72.0 / fig.dpi / np.diff(ax.get_xlim())[0]
-    size = (1.05 * frame.spacing * points_per_metre) ** 2  # scatter sizes are points squared
-    return ax.scatter(frame.points[:, 0], frame.points[:, 1], c=frame.values, s=size, marker="s",
-                      linewidths=0, **style)
+def draw_particles(fig, ax, frame, drawn=False, **style):
+    """The particles as squares as wide as their spacing, coloured by the frame's values
+    (`drawn`: the figure's layout is final and drawn already)."""
+    if not drawn:
+        fig.canvas.draw()  # the axes' final size, to turn millimetres into points
+    points_per_mm = ax.get_window_extent().width * 72.0 / fig.dpi / np.diff(ax.get_xlim())[0]
+    size = (1.05 * frame.spacing * MM * points_per_mm) ** 2  # scatter sizes are points squared
+    return ax.scatter(frame.points[:, 0] * MM, frame.points[:, 1] * MM, c=frame.values, s=size,
+                      marker="s", linewidths=0, **style)
+
+
+def draw_scene(ax, frame, scene, legend=True):
+    """The scene's pre-cracks and regions over a frame's picture (run_overlay)."""
+    return run_overlay.draw_scene(ax, scene, frame_box(frame), frame.z, legend)
 
 
 def colour_range(frame):
@@ -113,13 +145,14 @@ def save(fig, path):
     os.replace(temporary, path)
 
 
-def save_field_png(frame, png, title):
-    """A picture of the frame's field: x-y particles (1D: the field along x)."""
+def save_field_png(frame, png, title, scene=None):
+    """A picture of the frame's field: x-y particles with the scene drawn over them (1D: the
+    field along x)."""
     vmin, vmax = colour_range(frame)
     if frame.dimension == 1:
         fig, ax = plt.subplots(figsize=(8, 4))
-        ax.plot(frame.points[:, 0], frame.values, ".", ms=3)
-        ax.set_xlabel("x (m)")
+        ax.plot(frame.points[:, 0] * MM, frame.values, ".", ms=3)
+        ax.set_xlabel("x (mm)")
         ax.set_ylabel(frame.label)
         ax.set_ylim(vmin, vmax if vmax > vmin else vmin + 1.0)
     else:
@@ -127,6 +160,7 @@ def save_field_png(frame, png, title):
         fig, ax = particles_figure(frame)
         artist = draw_particles(fig, ax, frame, cmap="viridis", vmin=vmin, vmax=vmax)
         fig.colorbar(artist, ax=ax, label=frame.label)
+        draw_scene(ax, frame, scene)
     ax.set_title(frame_title(frame, f"{title}: {frame.label}"))
     save(fig, png)
     return frame
@@ -142,17 +176,35 @@ def choose_frames(frames, times=None, count=4):
     return list(dict.fromkeys(int(round(k)) for k in spread))
 
 
+def times_notes(frames, times):
+    """Notes for --times that lie outside the frames' span (the nearest frame is drawn)."""
+    known = [t for t, _ in frames if np.isfinite(t)]
+    if not times or not known:
+        return []
+    first, last = min(known), max(known)
+    gap = (last - first) / max(len(known) - 1, 1)
+    return [f"--times {t:g} s lies outside the frames ({first:.4g} to {last:.4g} s): the nearest "
+            "frame is drawn" for t in times if t < first - gap or t > last + gap]
+
+
 def plot_frames(run, name="damage", times=None):
-    """<name>_<k>.png for the chosen frames; earlier pictures of the field are removed first."""
+    """<name>_<k>.png for the chosen frames; earlier pictures of the field are removed first;
+    an unreadable frame is skipped with a note."""
     if not run.frames:
         return []
     for old in glob.glob(run.path("plots", f"{name}_*.png")):
         if re.fullmatch(rf"{re.escape(name)}_\d+\.png", os.path.basename(old)):
             os.remove(old)
+    run.notes += times_notes(run.frames, times)
     written = []
-    for k, index in enumerate(choose_frames(run.frames, times)):
-        png = run.path("plots", f"{name}_{k}.png")
-        frame = save_field_png(read_frame(run.frames[index][1], name), png, run.name)
+    for index in choose_frames(run.frames, times):
+        png = run.path("plots", f"{name}_{len(written)}.png")
+        try:
+            frame = read_frame(run.frames[index][1], name)
+        except UnreadableFrame as error:
+            run.notes.append(f"{error}: skipped")
+            continue
+        frame = save_field_png(frame, png, run.name, run.scene)
         print(f"wrote {png}: {os.path.basename(frame.path)}, t = {frame.time * US:.4g} µs"
               + (f", {frame.slice_note}" if frame.slice_note else ""))
         written.append(png)

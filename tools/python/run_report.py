@@ -1,135 +1,83 @@
-"""The Markdown report of a run directory (`dhpd report`, through plot_run.py and run_data.py).
-
-The run, the scene file's header, the pictures and a table of measured against published numbers
-(summary.json "published")."""
+"""The Markdown report of a run directory (`dhpd report`, through plot_run.py and run_data.py)."""
+# The run and its provenance, what the folder lacks, the scene file's header, the measured numbers
+# beside the published and LEFM ones (report_numbers.py), the crack branches traced through the
+# damage, the refinement settings and events, and the pictures.
 import glob
 import os
 
 import numpy as np
 
+import crack_path
+from report_numbers import measured_section, number, table
 from run_data import US
 
-PER_EVENT_LISTS = ("branch_times", "branch_positions")  # compared by their first element
-UNITS = {"initiation_time": "s", "angle_deg": "°", "max_speed": "m/s", "mean_speed": "m/s",
-         "branch_times": "s", "branch_positions": "m", "tip": "m", "rayleigh_speed": "m/s"}
-PICTURE_ORDER = ("energies", "momentum", "particles_dt", "tip_speed", "crack_path")
+PICTURE_ORDER = ("contact_sheet", "levels", "energies", "momentum", "particles_dt", "tip_speed",
+                 "crack_path")
+PROVENANCE = (("version", "dhpd version"), ("commit", "commit"),
+              ("command_line", "command line"), ("threads", "threads"),
+              ("peak_memory_mb", "peak memory (MiB)"))
 
 
-def number(value):
-    """A value for a table: whole numbers in full, others to 4 digits, points as (x, y, z)."""
-    if value is None:
-        return "—"
-    if isinstance(value, (bool, str, int)):
-        return str(value)
-    if isinstance(value, (list, tuple)):
-        return "(" + ", ".join(number(v) for v in value) + ")"
-    if float(value).is_integer() and abs(value) < 1e15:
-        return str(int(value))
-    return f"{value:.4g}"
-
-
-def quantity(key, label=None):
-    unit = UNITS.get(key)
-    name = (label or key) + (" (first)" if key in PER_EVENT_LISTS else "")
-    return f"{name} ({unit})" if unit else name
-
-
-def compared(key, value):
-    """The value a comparison uses: the first element of a per-event list, else the value."""
-    if key in PER_EVENT_LISTS and isinstance(value, list):
-        return value[0] if value else None
-    return value
-
-
-def relative_difference(measured, published):
-    """(measured − published) / |published| as a signed percentage; for points the distance
-    over the published point's length. "—" when either is missing or the published one is 0."""
-    try:
-        m, p = np.asarray(measured, dtype=float), np.asarray(published, dtype=float)
-    except (TypeError, ValueError):
-        return "—"
-    if measured is None or published is None or m.shape != p.shape or not np.any(p):
-        return "—"
-    if m.ndim == 0:
-        return f"{100.0 * (m - p) / abs(p):+.2f} %"
-    return f"{100.0 * np.linalg.norm(m - p) / np.linalg.norm(p):.2f} % (distance)"
-
-
-def published_rows(summary):
-    """[quantity, measured, published, difference] for each key of summary["published"]: maps
-    are matched to the crack of that name, other keys to summary's own top-level value."""
-    cracks = {c.get("name"): c for c in summary.get("cracks", [])}
-    rows = []
-    for key, published in summary["published"].items():
-        if isinstance(published, dict):
-            crack = cracks.get(key, {})
-            pairs = [(sub, f"{key}: {sub}", crack.get(sub), value)
-                     for sub, value in published.items()]
-        else:
-            pairs = [(key, key, summary.get(key), published)]
-        for sub, label, measured, value in pairs:
-            m, p = compared(sub, measured), compared(sub, value)
-            rows.append([quantity(sub, label), number(m), number(p), relative_difference(m, p)])
-    return rows
-
-
-def measured_rows(summary):
-    """[quantity, measured] of each crack of summary["cracks"] and the Rayleigh speed."""
-    rows = []
-    for crack in summary.get("cracks", []):
-        name = crack.get("name", "?")
-        for key in ("initiation_time", "angle_deg", "max_speed", "mean_speed", "branch_times",
-                    "tip"):
-            if key in crack:
-                rows.append([quantity(key, f"{name}: {key}"), number(compared(key, crack[key]))])
-        if "branch_times" in crack:
-            rows.append([f"{name}: branches", str(len(crack["branch_times"]))])
-    if "rayleigh_speed" in summary:
-        rows.append([quantity("rayleigh_speed"), number(summary["rayleigh_speed"])])
-    return rows
-
-
-def table(header, rows):
-    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
-    return lines + ["| " + " | ".join(row) + " |" for row in rows]
-
-
-def comparison_section(summary):
-    """Measured against published numbers, or the measured crack numbers alone."""
-    lines = ["## Measured vs published", ""]
-    if isinstance(summary.get("published"), dict) and summary["published"]:
-        header = ["quantity", "measured", "published", "relative difference"]
-        return lines + table(header, published_rows(summary))
-    rows = measured_rows(summary)
-    if not rows:
-        return lines + ["summary.json has no crack measurements (`cracks`) and no `published` "
-                        "numbers."]
-    lines += ["summary.json has no `published` numbers; the measured crack numbers:", ""]
-    return lines + table(["quantity", "measured"], rows)
+def last(column):
+    return column[-1] if column is not None and len(column) else None
 
 
 def run_section(run):
-    """The run in a two-column table: scene, status, wall time, particles, steps, dt, events."""
-    s = run.summary
-    status = s.get("status", "?") + (f" ({s['message']})" if s.get("message") else "")
+    """The run in a two-column table (from summary.json, else from history.csv and frames)."""
+    s, h = run.summary, run.history
+    status = s.get("status", "not recorded (no summary.json)") + (
+        f" ({s['message']})" if s.get("message") else "")
     scene = run.name + (f" (`{s['scene_file']}`)" if s.get("scene_file") else "")
-    dt = f"{number(s.get('dt'))} s (stable: {number(s.get('critical_dt'))} s)"
-    particles = f"{number(s.get('particles_start'))} → {number(s.get('particles_end'))}"
-    end = s.get("end_time")
+    start = s.get("particles_start", h["particles"][0] if run.has_history else None)
+    end = s.get("particles_end", last(h.get("particles")))
+    end_time = s.get("end_time", last(h.get("time")) if run.has_history else (
+        run.frames[-1][0] if run.frames else None))
+    dt = f"{number(s.get('dt', last(h.get('dt'))), US)} µs"
+    if "critical_dt" in s:
+        dt += f" (stable: {number(s['critical_dt'], US)} µs)"
+    broken = s.get("broken_bonds", last(h.get("broken_bonds")))
+    bonds = s.get("bonds", last(h.get("bonds")))
     rows = [["scene", scene], ["status", status],
-            ["wall time", f"{number(s.get('wall_seconds'))} s"],
-            ["particles", particles],
-            ["steps", number(s.get("steps"))], ["dt", dt],
-            ["end time", f"{end * US:.4g} µs" if isinstance(end, (int, float)) else "—"],
-            ["refinement events", number(s.get("refinement_events"))],
-            ["broken bonds", f"{number(s.get('broken_bonds'))} of {number(s.get('bonds'))}"]]
-    return [f"# {run.name}: run report", ""] + table(["", ""], rows)
+            ["wall time", f"{number(s['wall_seconds'])} s" if "wall_seconds" in s else
+             "not recorded"],
+            ["particles", f"{number(start)} → {number(end)}"],
+            ["steps", number(s.get("steps", last(h.get("step"))))], ["dt", dt],
+            ["end time", f"{number(end_time, US)} µs" if end_time is not None else "—"],
+            ["refinement events", number(s.get("refinement_events", len(
+                (run.refinement or {}).get("generation", [])) if run.refinement else None))],
+            ["broken bonds", f"{number(broken)} of {number(bonds)}"],
+            ["frames", str(len(run.frames))]]
+    return [f"# {run.name}: run report", ""] + table(["", ""], rows) + [""]
+
+
+def provenance_section(summary):
+    """Version, commit, command line, threads (and peak memory): 'not recorded' when absent."""
+    rows = []
+    for key, label in PROVENANCE:
+        value = summary.get(key)
+        if isinstance(value, list):
+            value = " ".join(str(v) for v in value)
+        text = "not recorded" if value in (None, "") else (
+            f"`{value}`" if key == "command_line" else number(value) if key in (
+                "threads", "peak_memory_mb") else str(value))
+        rows.append([label, text])
+    warnings = summary.get("warnings") or []
+    lines = ["## Provenance", ""] + table(["", ""], rows) + [""]
+    return lines + ([f"Warnings of the run: {len(warnings)}", ""] +
+                    [f"- {w}" for w in warnings] + [""] if warnings else [])
+
+
+def state_section(run):
+    """What the folder lacks, for a run that did not complete."""
+    if not run.missing and run.summary.get("status") == "completed":
+        return []
+    return ["> **This run did not complete or its folder is incomplete.** " + run.notes[0] + ".",
+            ""] if run.notes else []
 
 
 def scene_header(run):
-    """The comment lines the scene file starts with (its source, what it shows, the numbers to
-    expect), when the file is still where the run read it (as given, or beside the run's
-    folder); [] otherwise."""
+    """The comment lines the scene file starts with, when the file is still where the run read
+    it (as given, or beside the run's folder); [] otherwise."""
     name = run.summary.get("scene_file")
     if not isinstance(name, str) or not name:
         return []
@@ -155,6 +103,70 @@ def about_section(run):
         [f"> {line}" if line else ">" for line in header] + [""]
 
 
+def branches_section(run):
+    """The branches traced through the last frame's damage and their branch points."""
+    if run.cracks is None or not run.frames:
+        return []
+    branches, points = crack_path.branch_rows(crack_path.traced(run))
+    lines = ["## Crack branches (traced through the last frame's damage, crack_path.png)", ""]
+    if not branches:
+        return lines + ["No crack to trace in the last frame.", ""]
+    lines += table(["tip", "branch", "from (mm)", "to (mm)", "damaged (µs)"], branches) + [""]
+    if points:
+        lines += table(["tip", "branch point (mm)", "time (µs)"], points) + [""]
+    return lines
+
+
+def refinement_settings(scene):
+    """The scene's effects.refinement as rows ('—' for what it leaves out)."""
+    settings = ((scene or {}).get("effects") or {}).get("refinement")
+    if not isinstance(settings, dict):
+        return []
+    rows = []
+    for key, value in settings.items():
+        if isinstance(value, dict):
+            value = ", ".join(f"{k} {v}" for k, v in value.items())
+        elif isinstance(value, list):
+            value = f"{len(value)} region(s)"
+        rows.append([key, str(value)])
+    return rows
+
+
+def event_rows(run):
+    """Totals of refinement.csv: events, parents, children, particles before and after, time."""
+    r = run.refinement
+    before = r["particles"][0] - r["children"][0] + r["parents"][0] if "particles" in r else None
+    seconds = r.get("seconds", np.zeros(1))
+    rows = [["events", str(len(r["generation"]))],
+            ["first, last event", f"{number(r['time'][0], US)}, {number(r['time'][-1], US)} µs"],
+            ["parents split", number(r.get("parents", np.zeros(1)).sum())],
+            ["children created", number(r.get("children", np.zeros(1)).sum())],
+            ["particles before the first, after the last event",
+             f"{number(before)} → {number(last(r.get('particles')))}"],
+            ["time spent in events", f"{number(seconds.sum())} s (largest {number(seconds.max())} s"
+             f", re-sorts {number(r.get('resort_seconds', np.zeros(1)).sum())} s)"]]
+    if "mapping_energy" in r:
+        rows.append(["energy the mappings added", f"{number(r['mapping_energy'].sum())} J"])
+    if "started_broken" in r:
+        rows.append(["new bonds started broken", number(r["started_broken"].sum())])
+    return rows
+
+
+def refinement_section(run):
+    settings = refinement_settings(run.scene)
+    if not settings and run.refinement is None:
+        return []
+    lines = ["## Refinement", ""]
+    lines += (table(["setting", "value"], settings) if settings else
+              ["No refinement settings (scene.resolved.yaml missing)."]) + [""]
+    if run.refinement is None:
+        return lines + ["No refinement.csv: no event was recorded.", ""]
+    lines += table(["events (refinement.csv)", ""], event_rows(run)) + [""]
+    if os.path.isfile(run.path("plots", "levels.png")):
+        lines += ["![refinement levels](plots/levels.png)", ""]
+    return lines
+
+
 def picture_key(name):
     """Frames first (by field, then k), then the fixed pictures in PICTURE_ORDER."""
     stem = os.path.splitext(name)[0]
@@ -167,7 +179,7 @@ def picture_key(name):
 def pictures_section(run):
     names = sorted((os.path.basename(p) for p in glob.glob(run.path("plots", "*.png"))),
                    key=picture_key)
-    lines = ["## Pictures", ""]
+    lines = ["## Pictures", "", "Lengths in mm, times in µs.", ""]
     lines += [f"![{os.path.splitext(n)[0]}](plots/{n})\n" for n in names]
     return lines + [f"- {note}" for note in run.notes] + [""]
 
@@ -184,10 +196,11 @@ def report(run, make_plots, wanted):
     """OUT/report.md, after make_plots(run) when some of the `wanted` pictures are missing."""
     if missing_plots(run, wanted):
         make_plots(run)
-    text = "\n".join(run_section(run) + [""] + about_section(run) + pictures_section(run) +
-                     comparison_section(run.summary)) + "\n"
+    sections = (run_section(run) + state_section(run) + provenance_section(run.summary)
+                + about_section(run) + measured_section(run) + branches_section(run)
+                + refinement_section(run) + pictures_section(run))
     path = run.path("report.md")
     with open(path + ".tmp", "w") as f:
-        f.write(text)
+        f.write("\n".join(sections) + "\n")
     os.replace(path + ".tmp", path)
     print(f"wrote {path}")

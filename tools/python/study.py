@@ -6,7 +6,14 @@ buffers, levels), each through `dhpd run` with `--set` overrides, and measures f
 time, particle-steps and peak memory, and its errors against a reference run: crack angle,
 initiation time, tip-path distance, damage-field difference and L2 displacement error
 (docs/theory.md §15, §17). Writes study.csv, study.md and pareto.png (error against time, Pareto front
-marked) into the output folder and names the cheapest variant within the error budget.
+marked) into the output folder and names the cheapest variant within the error budget. study.csv,
+study.md and pareto.png are rewritten after every run, so a study stopped part-way keeps the rows
+it measured. Run again into the same folder, a study reuses each run folder whose summary.json is
+completed and whose study_variant.json (written there after the run: scene file, overrides,
+threads, wall time, peak memory) names the same scene, overrides and threads, and says so; any
+other run folder of the study is removed and run afresh. Peak memory is the engine process's own:
+summary.json `peak_memory_mb` when the run wrote it, else VmHWM of /proc/PID/status polled while
+the run lasts (study.csv `peak_source` says which; launch.py).
 
 Study file (YAML):
     name: branching_plate            # used in titles
@@ -56,10 +63,10 @@ dimension than the reference (a 3D plate against a 2D reference) gets only angle
 initiation; tip_path, damage and l2_displacement compare positions and are left empty.
 """
 import argparse
-import csv
 import itertools
 import json
 import os
+import shutil
 import sys
 
 import yaml
@@ -67,9 +74,9 @@ import yaml
 import launch
 import study_angles
 from study_metrics import compare, distance_to_polyline, last_frame, tip_paths
+from study_report import METRICS, criteria_failures, fmt, write_outputs
 
-METRICS = ["angle_deg", "initiation", "tip_path", "damage", "l2_displacement", "broken_bonds",
-           "branching", "path_both_ways", "crack_distance", "spurious_damage", "momentum"]
+VARIANT_FILE = "study_variant.json"  # in each run folder: the variant and what its run measured
 
 
 def fail(message):
@@ -116,6 +123,9 @@ def load_study(path):
                 fail(f"{path}: {section}.{key} must be a number >= 0, not {limit!r}")
     if "mirror" in study:
         check_mirror(path, study["mirror"])
+    if not isinstance(study.get("reference", {}), dict) or "grid" in study.get("reference", {}):
+        fail(f"{path}: reference must be {{label: TEXT, set: {{KEY: VALUE, ...}}}} (one run, "
+             "no grid)")
     perturbed = study.get("perturbed_reference")
     if perturbed is not None and not (
             isinstance(perturbed, dict) and set(perturbed) <= {"label", "set"}
@@ -154,164 +164,67 @@ def mirror_spread(paths, mirror):
     return float(max(distance_to_polyline(a, b_m).max(), distance_to_polyline(b, a_m).max()))
 
 
+def variant_record(case, overrides, threads):
+    """What makes a variant's run: its scene file, overrides and threads (JSON-normalised)."""
+    return json.loads(json.dumps({"case": os.path.abspath(case), "overrides": overrides,
+                                  "threads": threads}))
+
+
+def earlier_run(out_dir, record):
+    """(summary, result) of an earlier run of the same variant in out_dir: its summary.json
+    completed and its VARIANT_FILE of the same case, overrides and threads; else None."""
+    try:
+        with open(os.path.join(out_dir, VARIANT_FILE)) as f:
+            stored = json.load(f)
+    except (OSError, ValueError):
+        return None
+    summary = launch.readable_summary(out_dir)
+    result = stored.get("result") if isinstance(stored, dict) else None
+    if (not isinstance(summary, dict) or summary.get("status") != "completed"
+            or any(stored.get(k) != v for k, v in record.items())
+            or not isinstance(result, dict) or not isinstance(result.get("wall_s"), (int, float))):
+        return None
+    return summary, result
+
+
 def run_one(dhpd, case, overrides, out_dir, threads):
-    """Runs one variant; returns its summary, wall seconds and peak memory (MiB)."""
+    """Runs one variant, or reuses its earlier completed run in out_dir; returns its summary and
+    result (wall seconds, peak memory in MiB and its source, reused)."""
+    record = variant_record(case, overrides, threads)
+    earlier = earlier_run(out_dir, record)
+    if earlier is not None:
+        summary, result = earlier
+        return summary, dict(result, reused=True)
+    if os.path.isdir(out_dir):  # the study's own folder of a run it cannot reuse: made afresh
+        shutil.rmtree(out_dir)
     run = launch.run(dhpd, case, out_dir, overrides, threads)
     if run.code != 0:
         fail(f"run of {case} with {overrides} failed (exit {run.code}):\n{run.stderr}")
     if run.summary is None:
         fail(f"run of {case} with {overrides} wrote no readable {out_dir}/summary.json")
-    return run.summary, run.wall, run.peak_mib
-
-
-def pareto_front(rows, metric):
-    """Indices of the rows no other row beats in both wall time and `metric`."""
-    valid = [i for i, r in enumerate(rows) if r[metric] is not None]
-    front = []
-    for i in valid:
-        dominated = any(
-            rows[j]["wall_s"] <= rows[i]["wall_s"] and rows[j][metric] <= rows[i][metric]
-            and (rows[j]["wall_s"] < rows[i]["wall_s"] or rows[j][metric] < rows[i][metric])
-            for j in valid)
-        if not dominated:
-            front.append(i)
-    return front
-
-
-def cheapest_within(rows, budget):
-    """The fastest row whose every budgeted metric is known and within its limit."""
-    ok = [r for r in rows
-          if all(r[k] is not None and r[k] <= limit for k, limit in budget.items())]
-    return min(ok, key=lambda r: r["wall_s"]) if ok else None
-
-
-def plot_pareto(rows, metric, front, reference, path):
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, ax = plt.subplots(figsize=(7, 4.5))
-    xs = [r["wall_s"] for r in rows if r[metric] is not None]
-    ys = [r[metric] for r in rows if r[metric] is not None]
-    ax.scatter(xs, ys, color="tab:blue", label="variants")
-    for r in rows:
-        if r[metric] is not None:
-            ax.annotate(r["label"], (r["wall_s"], r[metric]), fontsize=7,
-                        xytext=(3, 3), textcoords="offset points")
-    pts = sorted((rows[i]["wall_s"], rows[i][metric]) for i in front)
-    if pts:
-        ax.plot(*zip(*pts), color="tab:red", marker="o", label="Pareto front")
-    ax.axvline(reference["wall_s"], color="grey", linestyle="--",
-               label=f"reference ({reference['label']})")
-    ax.set_xscale("log")
-    ax.set_xlabel("wall time (s)")
-    ax.set_ylabel(metric.replace("_", " "))
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    result = {"wall_s": run.wall, "peak_mib": run.peak_mib, "peak_source": run.peak_source}
+    with open(os.path.join(out_dir, VARIANT_FILE + ".tmp"), "w") as f:
+        json.dump(dict(record, result=result), f, indent=2)
+    os.replace(os.path.join(out_dir, VARIANT_FILE + ".tmp"), os.path.join(out_dir, VARIANT_FILE))
+    return run.summary, dict(result, reused=False)
 
 
 def measure_run(dhpd, label, case, overrides, out_dir, threads=None):
-    """Runs one variant and returns its row (errors filled in later)."""
-    summary, wall, peak = run_one(dhpd, case, overrides, out_dir, threads)
+    """Runs one variant (or reuses its earlier run) and returns its row (errors filled in
+    later) and summary."""
+    summary, result = run_one(dhpd, case, overrides, out_dir, threads)
+    if result["reused"]:
+        print(f"dhpd study: {label}: reused {out_dir} (its summary.json is completed, with the "
+              "same overrides)", flush=True)
     steps = summary.get("steps", 0)
     particles = 0.5 * (summary.get("particles_start", 0) + summary.get("particles_end", 0))
     row = {"label": label, "case": os.path.basename(case), "overrides": overrides,
-           "wall_s": wall, "particle_steps": particles * steps, "peak_mib": peak,
-           "particles_end": summary.get("particles_end"), "status": summary.get("status"),
-           "out": out_dir}
+           "wall_s": result["wall_s"], "particle_steps": particles * steps,
+           "peak_mib": result.get("peak_mib"), "peak_source": result.get("peak_source", "unknown"),
+           "reused": result["reused"], "particles_end": summary.get("particles_end"),
+           "status": summary.get("status"), "out": out_dir}
     row.update({m: None for m in METRICS})
     return row, summary
-
-
-def criteria_failures(study, rows):
-    """(variant, metric, value, limit) for every criterion a variant misses (an unmeasured
-    metric misses too)."""
-    out = []
-    for r in rows:
-        for metric, limit in study.get("criteria", {}).items():
-            value = r[metric]
-            if value is None or not value <= limit:
-                out.append((r["label"], metric, value, limit))
-    return out
-
-
-def perturbed_lines(study, perturbed, failures):
-    """study.md's paragraph on the reference's own spread under `perturbed_reference`."""
-    if perturbed is None:
-        return []
-    mine = [f for f in failures if f[0] == perturbed["label"]]
-    measured = ", ".join(f"{m} = {fmt(perturbed[m])}" for m in study.get("criteria", {}))
-    return ["", f"Reference's own spread ({perturbed['label']}, against the reference): {measured}: "
-            + ("within every criterion, so the criteria can tell variants apart."
-               if not mine else "**a criterion is tighter than the reference's own spread: the "
-               "comparison is ill-posed** (choose a scene or an end time whose reference does "
-               "not depend on this change).")]
-
-
-def criteria_lines(study, rows, failures):
-    if "criteria" not in study:
-        return []
-    limits = ", ".join(f"{k} ≤ {v}" for k, v in study["criteria"].items())
-    lines = ["", f"Criteria ({limits}): "
-             + ("**all variants pass**." if not failures else "**failed**:"), ""]
-    lines += [f"- {label}: {metric} = {fmt(value)} (limit {limit})"
-              for label, metric, value, limit in failures]
-    return lines
-
-
-def fmt(value, digits=4):
-    return "–" if value is None else (f"{value:.{digits}g}" if isinstance(value, float) else str(value))
-
-
-def write_outputs(study, rows, ref_row, out, perturbed=None):
-    metric = study.get("error", "angle_deg")
-    columns = ["label", "case", "wall_s", "particle_steps", "peak_mib", "particles_end"] + METRICS
-    with open(os.path.join(out, "study.csv"), "w", newline="") as f:
-        w = csv.writer(f)
-        w.writerow(columns + ["overrides"])
-        for r in [ref_row] + rows + ([perturbed] if perturbed else []):
-            w.writerow([r[c] if r[c] is not None else "" for c in columns] + [json.dumps(r["overrides"])])
-    front = pareto_front(rows, metric)
-    plot_pareto(rows, metric, front, ref_row, os.path.join(out, "pareto.png"))
-    budget = study.get("budget", {})
-    best = cheapest_within(rows, budget)
-    lines = [f"# Study: {study.get('name', 'study')}", "",
-             f"Reference: **{ref_row['label']}** ({ref_row['case']}), "
-             f"{ref_row['wall_s']:.1f} s, {ref_row['particles_end']} particles.", "",
-             "| variant | wall (s) | vs reference | particle-steps | peak MiB | "
-             + " | ".join(METRICS) + " | Pareto |",
-             "|---" * (6 + len(METRICS)) + "|"]
-    for i, r in enumerate(rows):
-        speed = ref_row["wall_s"] / r["wall_s"] if r["wall_s"] > 0 else float("nan")
-        lines.append(f"| {r['label']} | {r['wall_s']:.2f} | {speed:.1f}× faster | "
-                     f"{r['particle_steps']:.3g} | {r['peak_mib']:.0f} | "
-                     + " | ".join(fmt(r[m]) for m in METRICS)
-                     + f" | {'yes' if i in front else ''} |")
-    lines += ["", f"Error plotted: `{metric}` (pareto.png).", ""]
-    if "mirror" in study:
-        a, b = study["mirror"]["tips"]
-        spread = mirror_spread(tip_paths(ref_row["out"]), study["mirror"])
-        lines += [f"Reference's own tip-path spread ({a} against mirrored {b}): "
-                  + (f"{spread:.4g} m" if spread is not None else "not measured")
-                  + " (the two cracks are mirror images in an exact solution; a tip_path error "
-                  "below this is within the reference's own uncertainty).", ""]
-    if budget:
-        limits = ", ".join(f"{k} ≤ {v}" for k, v in budget.items())
-        lines.append(f"Cheapest within the budget ({limits}): "
-                     + (f"**{best['label']}**, {best['wall_s']:.2f} s "
-                        f"({ref_row['wall_s'] / best['wall_s']:.1f}× faster than the reference)."
-                        if best else "none of the variants."))
-    if "angles" in study:
-        lines += study_angles.report(study["angles"]["early_distance"], [ref_row] + rows, out)
-    checked = rows + ([perturbed] if perturbed else [])
-    lines += perturbed_lines(study, perturbed, criteria_failures(study, checked))
-    lines += criteria_lines(study, rows, criteria_failures(study, rows))
-    lines += ["", "![error against time](pareto.png)", ""]
-    with open(os.path.join(out, "study.md"), "w") as f:
-        f.write("\n".join(lines))
-    return best
 
 
 def report_failures(study, rows, perturbed):
@@ -325,60 +238,87 @@ def report_failures(study, rows, perturbed):
     return 1 if failures else 0
 
 
+def plan(args):
+    """The study, its output folder, the reference (label, case, overrides) and the variants."""
+    if not os.path.isfile(args.study):
+        fail(f"cannot read study file '{args.study}'")
+    study = load_study(args.study)
+    here = os.path.dirname(os.path.abspath(args.study))
+    out = args.out or f"study-{study.get('name', 'study')}"
+    ref_entry = dict(study.get("reference", {}))
+    ref_entry.setdefault("label", "reference")
+    (ref_label, ref_case, ref_set), = expand(here, study["case"], ref_entry)
+    frames = study.get("frames", 2)
+    if not isinstance(frames, int) or frames < 1:
+        fail(f"{args.study}: frames must be an integer >= 1, not {frames!r}")
+    # No checkpoints: they would cost each variant disk time in proportion to its size.
+    quiet = {"output.frames": frames, "output.checkpoint_every": 0}
+    runs = [(label, case, {**quiet, **overrides})
+            for label, case, overrides in
+            (r for v in study["variants"] for r in expand(here, study["case"], v))]
+    return study, out, (ref_label, ref_case, {**quiet, **ref_set}), runs
+
+
+class Study:
+    """The measured rows so far; study.csv, study.md and pareto.png rewritten after each."""
+
+    def __init__(self, study, out, dhpd):
+        self.study, self.out, self.dhpd = study, out, dhpd
+        self.threads = study.get("threads")
+        self.early = study.get("angles", {}).get("early_distance", 0.0)
+        self.rows, self.perturbed, self.spread, self.total = [], None, None, 0
+
+    def measure(self, label, case, overrides, folder, reach=None):
+        row, summary = measure_run(self.dhpd, label, case, overrides,
+                                   os.path.join(self.out, folder), self.threads)
+        if folder != "run-reference":
+            compare(row, summary, self.ref_row, self.ref_summary, self.ref_frame,
+                    self.ref_paths, reach)
+        row["angles"] = study_angles.crack_angles(row["out"], summary, self.early)
+        return row, summary
+
+    def reference(self, label, case, overrides):
+        print(f"dhpd study: reference {label}", flush=True)
+        self.ref_row, self.ref_summary = self.measure(label, case, overrides, "run-reference")
+        self.ref_frame, self.ref_paths = last_frame(self.ref_row["out"]), tip_paths(
+            self.ref_row["out"])
+        if "mirror" in self.study:
+            self.spread = mirror_spread(self.ref_paths, self.study["mirror"])
+        return self.write()
+
+    def write(self):
+        reused = [r["label"] for r in [self.ref_row] + self.rows if r.get("reused")]
+        return write_outputs(self.study, self.rows, self.ref_row, self.out, self.perturbed,
+                             self.spread, (len(self.rows), self.total, reused))
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("study")
     parser.add_argument("--dhpd", required=True, help="the dhpd executable")
     parser.add_argument("--out", help="output folder (default: study-NAME)")
     args = parser.parse_args()
-    if not os.path.isfile(args.study):
-        fail(f"cannot read study file '{args.study}'")
-    study = load_study(args.study)
-    here = os.path.dirname(os.path.abspath(args.study))
-    out = args.out or f"study-{study.get('name', 'study')}"
+    study, out, (ref_label, ref_case, ref_set), runs = plan(args)
     os.makedirs(out, exist_ok=True)
-    ref_entry = dict(study.get("reference", {}))
-    ref_entry.setdefault("label", "reference")
-    (ref_label, ref_case, ref_set), = expand(here, study["case"], ref_entry)
-    print(f"dhpd study: reference {ref_label}", flush=True)
-    threads = study.get("threads")
-    frames = study.get("frames", 2)
-    if not isinstance(frames, int) or frames < 1:
-        fail(f"{args.study}: frames must be an integer >= 1, not {frames!r}")
-    # No checkpoints: they would cost each variant disk time in proportion to its size.
-    quiet = {"output.frames": frames, "output.checkpoint_every": 0}
-    ref_set = {**quiet, **ref_set}
-    runs = [(label, case, {**quiet, **overrides})
-            for label, case, overrides in
-            (r for v in study["variants"] for r in expand(here, study["case"], v))]
-    early = study.get("angles", {}).get("early_distance", 0.0)
-    ref_row, ref_summary = measure_run(args.dhpd, ref_label, ref_case, ref_set,
-                                       os.path.join(out, "run-reference"), threads)
-    ref_row["angles"] = study_angles.crack_angles(ref_row["out"], ref_summary, early)
-    ref_frame, ref_paths = last_frame(ref_row["out"]), tip_paths(ref_row["out"])
-    rows = []
+    state = Study(study, out, args.dhpd)
+    state.total = len(runs)
+    state.reference(ref_label, ref_case, ref_set)
     for k, (label, case, overrides) in enumerate(runs):
         print(f"dhpd study: [{k + 1}/{len(runs)}] {label}", flush=True)
-        row, summary = measure_run(args.dhpd, label, case, overrides,
-                                   os.path.join(out, f"run-{k:02d}"), threads)
-        compare(row, summary, ref_row, ref_summary, ref_frame, ref_paths)
-        row["angles"] = study_angles.crack_angles(row["out"], summary, early)
-        rows.append(row)
-    perturbed = None
+        state.rows.append(state.measure(label, case, overrides, f"run-{k:02d}")[0])
+        state.write()
     if "perturbed_reference" in study:
         entry = study["perturbed_reference"]
         label = entry.get("label", "perturbed reference")
         print(f"dhpd study: perturbed reference {label}", flush=True)
-        perturbed, summary = measure_run(args.dhpd, label, ref_case, {**ref_set, **entry["set"]},
-                                         os.path.join(out, "run-perturbed-reference"), threads)
         # Judged as the variants are: "near the reference's damage" within their reach.
-        reach = max((r.get("spurious_reach") or 0.0 for r in rows), default=0.0) or None
-        compare(perturbed, summary, ref_row, ref_summary, ref_frame, ref_paths, reach)
-        perturbed["angles"] = study_angles.crack_angles(perturbed["out"], summary, early)
-    best = write_outputs(study, rows, ref_row, out, perturbed)
+        reach = max((r.get("spurious_reach") or 0.0 for r in state.rows), default=0.0) or None
+        state.perturbed = state.measure(label, ref_case, {**ref_set, **entry["set"]},
+                                        "run-perturbed-reference", reach)[0]
+    best = state.write()
     print(f"dhpd study: wrote {out}/study.csv, study.md, pareto.png"
           + (f"; cheapest within budget: {best['label']} ({best['wall_s']:.2f} s)" if best else ""))
-    return report_failures(study, rows, perturbed)
+    return report_failures(study, state.rows, state.perturbed)
 
 
 if __name__ == "__main__":
