@@ -43,7 +43,8 @@ namespace {
 /// Writes the children through the edit seam and puts them in the grid (their first child takes
 /// each parent's slot and so replaces it there).
 void write_event_children(Simulation& sim, Simulation::Discretisation d, SpatialGrid& grid,
-                          EventScratch& ev, StateMapping mapping, RefinementEvent& out) {
+                          EventScratch& ev, StateMapping mapping, RefinementEvent& out,
+                          const CancelCheck& cancelled) {
   const auto& plan = ev.plan;
   auto& p = d.particles;
   ev.parents = gather(p, plan.parents);
@@ -52,7 +53,7 @@ void write_event_children(Simulation& sim, Simulation::Discretisation d, Spatial
   const auto state = map_state(plan, mapping, p, d.bonds, held,
                                donors_across_cracks(plan, p, sim.setup().cracks, grid));
   out.reduced_fits = state.reduced_fits;
-  ev.near = old_neighbourhood(sim, grid, plan);
+  ev.near = old_neighbourhood(sim, grid, plan, cancelled);
   ev.parent_slot->resize(plan.new_size, -1);
   ev.child_of_slot->resize(plan.new_size, -1);
   for (std::size_t k = 0; k < plan.parents.size(); ++k)
@@ -82,7 +83,11 @@ DiscretisationChange change_of(const EventScratch& ev) {
 }  // namespace
 
 RefinementEvent split(Simulation& sim, const std::vector<std::int32_t>& parents,
-                      StateMapping mapping, EventSearch* search) {
+                      StateMapping mapping, EventSearch* search, const CancelCheck& cancelled) {
+  const auto ask = [&](const char* phase) {
+    if (cancelled && cancelled())
+      throw EventCancelled(std::string("refinement event cancelled ") + phase);
+  };
   const auto start = std::chrono::steady_clock::now();
   RefinementEvent out;
   out.generation = sim.generation();
@@ -99,14 +104,17 @@ RefinementEvent split(Simulation& sim, const std::vector<std::int32_t>& parents,
   ev.plan =
       plan_split(sim.particles(), parents, ChildFilter{sim.setup().body, sim.particles().dim()});
   if (ev.plan.parents.empty()) return out;
+  ask("after planning");
   ev.parent_slot = &es.parent_slot;
   ev.child_of_slot = &es.child_of_slot;
   // The mapping's energy change, for the instability guard's balance: only rows near the parents
   // change (unchanged rows give the same bits before and after, and cancel).
-  auto d = sim.begin_edit(event_energy_rows(sim, grid, ev.plan), ev.plan.parents);
-  write_event_children(sim, d, grid, ev, mapping, out);
-  ev.owners = owners_to_rebuild(sim, grid, ev);
-  rebuild_rows(sim, d, grid, ev, out);
+  auto d = sim.begin_edit(event_energy_rows(sim, grid, ev.plan, cancelled), ev.plan.parents);
+  write_event_children(sim, d, grid, ev, mapping, out, cancelled);
+  ask("after writing the children");
+  ev.owners = owners_to_rebuild(sim, grid, ev, cancelled);
+  ask("after finding the rows to rebuild");
+  rebuild_rows(sim, d, grid, ev, out, cancelled);
   const EditOutcome done = sim.commit_edit(change_of(ev), ev.broken_change);
   es.mark_current(sim);
   for (const auto q : ev.plan.parents) es.parent_slot[static_cast<std::size_t>(q)] = -1;

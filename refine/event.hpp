@@ -3,7 +3,10 @@
 // the change to the engine through its edit seam.
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <optional>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "engine/simulation.hpp"
@@ -13,6 +16,29 @@
 namespace dhpd::refine {
 
 /// What one refinement event did.
+/// Whether an event should stop now (e.g. SIGTERM arrived); empty: never.
+using CancelCheck = std::function<bool()>;
+
+/// An event stopped part way by its CancelCheck.
+class EventCancelled : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// Asks `cancelled` every 256th call (the loops of an event call it once per item).
+class CancelPoll {
+ public:
+  explicit CancelPoll(const CancelCheck& cancelled) : cancelled_(cancelled) {}
+  void operator()(const char* where) {
+    if (cancelled_ && ++calls_ % 256 == 0 && cancelled_())
+      throw EventCancelled(std::string("refinement event cancelled while ") + where);
+  }
+
+ private:
+  const CancelCheck& cancelled_;
+  std::size_t calls_ = 0;
+};
+
 struct RefinementEvent {
   std::int64_t generation = 0;  ///< the generation the event created
   std::size_t parents = 0, children = 0;
@@ -58,7 +84,11 @@ class EventSearch {
 /// parent's first child takes its slot, the other children are appended, so every other index
 /// stays valid, unless the event ends with a compaction (RefinementEvent::resorted). Refused for
 /// constant-horizon (one δ for the whole body). Without `search` a grid is built for this event.
+/// `cancelled` is asked between the phases and every few hundred rebuilt rows; when it answers
+/// true the event throws EventCancelled and leaves the simulation half edited: the caller restores
+/// a saved state (the run's last good copy) or discards the simulation.
 RefinementEvent split(Simulation& sim, const std::vector<std::int32_t>& parents,
-                      StateMapping mapping = StateMapping::Linear, EventSearch* search = nullptr);
+                      StateMapping mapping = StateMapping::Linear, EventSearch* search = nullptr,
+                      const CancelCheck& cancelled = {});
 
 }  // namespace dhpd::refine

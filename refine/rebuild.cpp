@@ -25,10 +25,13 @@ double widest_bond(const Simulation& sim) {
 /// Every particle within `radius(q)` of a parent q, and the parents, ascending.
 template <class Radius>
 std::vector<std::int32_t> around_parents(const Simulation& sim, const SpatialGrid& grid,
-                                         const SplitPlan& plan, Radius radius) {
+                                         const SplitPlan& plan, Radius radius,
+                                         const CancelCheck& cancelled) {
   const auto& p = sim.particles();
   std::vector<std::int32_t> out, found;
+  CancelPoll poll(cancelled);
   for (const auto q : plan.parents) {
+    poll("searching around the parents");
     const auto u = static_cast<std::size_t>(q);
     grid.within(point_of(p.reference_position, u), radius(u), found);
     out.insert(out.end(), found.begin(), found.end());
@@ -40,28 +43,30 @@ std::vector<std::int32_t> around_parents(const Simulation& sim, const SpatialGri
 }  // namespace
 
 std::vector<std::int32_t> old_neighbourhood(const Simulation& sim, const SpatialGrid& grid,
-                                            const SplitPlan& plan) {
+                                            const SplitPlan& plan, const CancelCheck& cancelled) {
   // An old bond crossing a new segment has its owner within one bond length of the segment, and
   // every new segment lies within a horizon (plus a cell) of its child's parent.
   if (sim.broken_bonds() == 0 || sim.particles().dim() == 1) return {};
   const double reach = widest_bond(sim);
-  return around_parents(sim, grid, plan,
-                        [&](std::size_t u) { return 2.0 * reach + sim.particles().spacing[u]; });
+  return around_parents(
+      sim, grid, plan, [&](std::size_t u) { return 2.0 * reach + sim.particles().spacing[u]; },
+      cancelled);
 }
 
 std::vector<std::int32_t> event_energy_rows(const Simulation& sim, const SpatialGrid& grid,
-                                            const SplitPlan& plan) {
+                                            const SplitPlan& plan, const CancelCheck& cancelled) {
   // Rows whose energy an event can change: the parents' and their neighbours' (owners of bonds on
   // a parent lie within a horizon of it), and those reaching a child (within a cell of its parent).
   // With the interface correction the factors of bonds between touched rows change too: their
   // owners lie up to one more bond length out.
   const double widest = (sim.corrects_interfaces() ? 2.0 : 1.0) * widest_bond(sim);
-  return around_parents(sim, grid, plan,
-                        [&](std::size_t u) { return widest + 2.0 * sim.particles().spacing[u]; });
+  return around_parents(
+      sim, grid, plan, [&](std::size_t u) { return widest + 2.0 * sim.particles().spacing[u]; },
+      cancelled);
 }
 
 std::vector<std::int32_t> owners_to_rebuild(const Simulation& sim, const SpatialGrid& grid,
-                                            const EventScratch& ev) {
+                                            const EventScratch& ev, const CancelCheck& cancelled) {
   const auto& plan = ev.plan;
   const auto& p = sim.particles();
   const auto& bonds = sim.bonds();
@@ -74,7 +79,9 @@ std::vector<std::int32_t> owners_to_rebuild(const Simulation& sim, const Spatial
   const BondRowBuilder builder(p, sim.setup().partial_volume, sim.setup().cracks, sim.bond_reach());
   const double widest = widest_bond(sim);
   const auto& X = p.reference_position;
+  CancelPoll poll(cancelled);
   for (std::size_t c = 0; c < plan.child_slot.size(); ++c) {
+    poll("finding the rows to rebuild");
     const auto& xc = plan.child_position[c];
     grid.within(xc, widest, found);
     for (const auto k : found) {  // unsplit particles whose horizon reaches the child
@@ -100,7 +107,7 @@ struct NewRows {
 
 /// Phase 1: the new rows, decided against the previous generation (nothing committed yet).
 NewRows decide_rows(const Simulation& sim, const SpatialGrid& grid, const EventScratch& ev,
-                    RefinementEvent& out) {
+                    RefinementEvent& out, const CancelCheck& cancelled) {
   const auto& p = sim.particles();
   const auto& plan = ev.plan;
   const auto& child_of_slot = *ev.child_of_slot;
@@ -117,7 +124,9 @@ NewRows decide_rows(const Simulation& sim, const SpatialGrid& grid, const EventS
   NewRows rows;
   std::vector<std::int32_t> cand;
   const auto& X = p.reference_position;
+  CancelPoll poll(cancelled);
   for (const auto i : ev.owners) {
+    poll("deciding the new rows");
     const auto u = static_cast<std::size_t>(i);
     grid.within(point_of(X, u), builder.search_radius(u), cand, i);
     builder.keep_bonds(u, cand, &rows.length, &rows.weight);
@@ -141,8 +150,8 @@ NewRows decide_rows(const Simulation& sim, const SpatialGrid& grid, const EventS
 }  // namespace
 
 void rebuild_rows(const Simulation& sim, Simulation::Discretisation d, const SpatialGrid& grid,
-                  EventScratch& ev, RefinementEvent& out) {
-  const NewRows rows = decide_rows(sim, grid, ev, out);
+                  EventScratch& ev, RefinementEvent& out, const CancelCheck& cancelled) {
+  const NewRows rows = decide_rows(sim, grid, ev, out, cancelled);
   auto& bonds = d.bonds;
   auto& dual = d.dual;
   // Phase 2: retire the old rows (parents' rows included: their slots are children now).

@@ -24,17 +24,21 @@ struct EventScratch {
 
 /// Owners of the previous generation whose old bonds may cross a new bond (no-healing rule b).
 std::vector<std::int32_t> old_neighbourhood(const Simulation& sim, const SpatialGrid& grid,
-                                            const SplitPlan& plan);
+                                            const SplitPlan& plan,
+                                            const CancelCheck& cancelled = {});
 /// Rows whose energy the event can change (for the energy ledger), ascending.
 std::vector<std::int32_t> event_energy_rows(const Simulation& sim, const SpatialGrid& grid,
-                                            const SplitPlan& plan);
+                                            const SplitPlan& plan,
+                                            const CancelCheck& cancelled = {});
 /// Owners whose rows are rebuilt: the children, the owners of bonds on the parents and the
 /// unsplit particles whose horizon reaches a child; ascending.
 std::vector<std::int32_t> owners_to_rebuild(const Simulation& sim, const SpatialGrid& grid,
-                                            const EventScratch& ev);
+                                            const EventScratch& ev,
+                                            const CancelCheck& cancelled = {});
 /// Decides the owners' new rows against the previous generation, retires their old bonds from
 /// the dual rows and writes the new ones (ev.dirty: every row that changed).
+/// These searches ask `cancelled` every 256 items (EventCancelled; see split).
 void rebuild_rows(const Simulation& sim, Simulation::Discretisation d, const SpatialGrid& grid,
-                  EventScratch& ev, RefinementEvent& out);
+                  EventScratch& ev, RefinementEvent& out, const CancelCheck& cancelled);
 
 }  // namespace dhpd::refine

@@ -82,7 +82,7 @@ std::vector<RefinementEvent> Refiner::refine_zones(Simulation& sim) {
     const auto parents = graded_parents(sim, std::move(marked), s_.max_level);
     if (parents.empty()) break;
     if (event_check_) event_check_(sim, parents.size());
-    events.push_back(split(sim, parents, s_.mapping, &search_));
+    events.push_back(split(sim, parents, s_.mapping, &search_, cancelled_));
   }
   return events;
 }
@@ -98,7 +98,7 @@ RefinementEvent Refiner::check(Simulation& sim) {
     return none;
   }
   if (event_check_) event_check_(sim, parents.size());
-  return split(sim, parents, s_.mapping, &search_);
+  return split(sim, parents, s_.mapping, &search_, cancelled_);
 }
 
 }  // namespace dhpd::refine

@@ -58,6 +58,8 @@ class Refiner {
   /// event or refuse one that would exceed its memory budget (by throwing).
   using EventCheck = std::function<void(const Simulation& sim, std::size_t parents)>;
   void set_event_check(EventCheck check) { event_check_ = std::move(check); }
+  /// Asked during each event (see split): true stops it with EventCancelled.
+  void set_cancel_check(CancelCheck cancelled) { cancelled_ = std::move(cancelled); }
   /// Builds the search the events keep up to date (else the first event builds it).
   void prepare(const Simulation& sim) { search_.grid(sim); }
   /// Splits the zones' particles, level by level up to max_level; one event per level.
@@ -72,6 +74,7 @@ class Refiner {
   Settings s_;
   EventSearch search_;  ///< the incremental grid kept between events
   EventCheck event_check_;
+  CancelCheck cancelled_;
 };
 
 }  // namespace dhpd::refine

@@ -29,14 +29,16 @@ int SpatialGrid::level_of(double spacing) const {
 
 SpatialGrid::Level& SpatialGrid::level(int k) {
   auto& l = levels_[k];
-  if (l.cell == 0.0) l.cell = ratio_ * base_ * std::ldexp(1.0, -k);
+  if (l.cell == 0.0) {
+    l.cell = ratio_ * base_ * std::ldexp(1.0, -k);
+    l.shift = std::max(k, 0);
+  }
   return l;
 }
 
-std::int64_t SpatialGrid::key(const Level& l, const geometry::Vec3& x) const {
-  std::int64_t c[3] = {0, 0, 0};
+void SpatialGrid::cell_of(const Level& l, const geometry::Vec3& x, std::int64_t c[3]) const {
+  c[0] = c[1] = c[2] = 0;
   for (int a = 0; a < dim_; ++a) c[a] = cell_coordinate(x[a], l.cell);
-  return pack(c[0], c[1], c[2]);
 }
 
 void SpatialGrid::insert(std::int32_t i, const geometry::Vec3& x, double spacing) {
@@ -44,42 +46,72 @@ void SpatialGrid::insert(std::int32_t i, const geometry::Vec3& x, double spacing
   if (where_.size() <= static_cast<std::size_t>(i)) where_.resize(static_cast<std::size_t>(i) + 1);
   const int k = level_of(spacing);
   auto& l = level(k);
+  std::int64_t c[3];
+  cell_of(l, x, c);
   auto& e = where_[static_cast<std::size_t>(i)];
-  e = {x, k, key(l, x)};
-  l.cells[e.key].push_back(i);
+  // Arithmetic shifts floor negative coordinates too: a cell lies in exactly one block.
+  e = {x, k, pack(c[0], c[1], c[2]), pack(c[0] >> l.shift, c[1] >> l.shift, c[2] >> l.shift)};
+  auto& cell = l.cells[e.key];
+  if (cell.empty()) l.blocks[e.block].push_back(e.key);
+  cell.push_back(i);
 }
 
 void SpatialGrid::remove(std::int32_t i) {
   if (!contains(i)) return;
   auto& e = where_[static_cast<std::size_t>(i)];
-  auto& cell = levels_.at(e.level).cells.at(e.key);
+  auto& l = levels_.at(e.level);
+  auto& cell = l.cells.at(e.key);
   cell.erase(std::find(cell.begin(), cell.end(), i));
+  if (cell.empty()) {
+    l.cells.erase(e.key);
+    auto& block = l.blocks.at(e.block);
+    block.erase(std::find(block.begin(), block.end(), e.key));
+    if (block.empty()) l.blocks.erase(e.block);
+  }
   e.level = kAbsent;
+}
+
+void SpatialGrid::scan(const Level& l, std::int64_t key, const geometry::Vec3& x, double r2,
+                       std::vector<std::int32_t>& out, std::int32_t skip) const {
+  const auto it = l.cells.find(key);
+  if (it == l.cells.end()) return;
+  for (const auto j : it->second) {
+    const auto& y = where_[static_cast<std::size_t>(j)].x;
+    double d2 = 0.0;
+    for (int a = 0; a < dim_; ++a) {
+      const double d = x[a] - y[a];
+      d2 += d * d;
+    }
+    if (d2 < r2 && j != skip) out.push_back(j);
+  }
 }
 
 void SpatialGrid::within(const geometry::Vec3& x, double radius, std::vector<std::int32_t>& out,
                          std::int32_t skip) const {
   out.clear();
   const double r2 = radius * radius;
+  constexpr double kMostCellsToVisit = 64;
   for (const auto& [k, l] : levels_) {
     std::int64_t lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
-    for (int a = 0; a < dim_; ++a)
-      lo[a] = cell_coordinate(x[a] - radius, l.cell),
+    double cells = 1;
+    for (int a = 0; a < dim_; ++a) {
+      lo[a] = cell_coordinate(x[a] - radius, l.cell);
       hi[a] = cell_coordinate(x[a] + radius, l.cell);
-    for (auto cx = lo[0]; cx <= hi[0]; ++cx)
-      for (auto cy = lo[1]; cy <= hi[1]; ++cy)
-        for (auto cz = lo[2]; cz <= hi[2]; ++cz) {
-          const auto it = l.cells.find(pack(cx, cy, cz));
-          if (it == l.cells.end()) continue;
-          for (const auto j : it->second) {
-            const auto& y = where_[static_cast<std::size_t>(j)].x;
-            double d2 = 0.0;
-            for (int a = 0; a < dim_; ++a) {
-              const double d = x[a] - y[a];
-              d2 += d * d;
-            }
-            if (d2 < r2 && j != skip) out.push_back(j);
-          }
+      cells *= static_cast<double>(hi[a] - lo[a] + 1);
+    }
+    if (cells <= kMostCellsToVisit || l.shift == 0) {
+      for (auto cx = lo[0]; cx <= hi[0]; ++cx)
+        for (auto cy = lo[1]; cy <= hi[1]; ++cy)
+          for (auto cz = lo[2]; cz <= hi[2]; ++cz) scan(l, pack(cx, cy, cz), x, r2, out, skip);
+      continue;
+    }
+    // A wide query of a fine class: the occupied cells of the blocks in range.
+    for (auto bx = lo[0] >> l.shift; bx <= hi[0] >> l.shift; ++bx)
+      for (auto by = lo[1] >> l.shift; by <= hi[1] >> l.shift; ++by)
+        for (auto bz = lo[2] >> l.shift; bz <= hi[2] >> l.shift; ++bz) {
+          const auto block = l.blocks.find(pack(bx, by, bz));
+          if (block == l.blocks.end()) continue;
+          for (const auto key : block->second) scan(l, key, x, r2, out, skip);
         }
   }
   std::sort(out.begin(), out.end());

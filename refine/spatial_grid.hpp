@@ -34,15 +34,23 @@ class SpatialGrid {
   struct Entry {
     geometry::Vec3 x{0, 0, 0};
     int level = kAbsent;
-    std::int64_t key = 0;
+    std::int64_t key = 0, block = 0;
   };
+  /// A spacing class k: cells of ratio × base / 2^k, and the occupied cells grouped by the cells
+  /// of class 0 they lie in (a block: 2^k cells per axis), so that a wide query of a fine class
+  /// visits the occupied cells of a few blocks instead of (2 radius / cell)^dim mostly empty ones.
   struct Level {
     double cell = 0.0;
+    int shift = 0;  ///< k: cell coordinates >> shift are block coordinates
     std::unordered_map<std::int64_t, std::vector<std::int32_t>> cells;
+    std::unordered_map<std::int64_t, std::vector<std::int64_t>> blocks;  ///< block -> cells
   };
   int level_of(double spacing) const;
   Level& level(int k);
-  std::int64_t key(const Level& l, const geometry::Vec3& x) const;
+  void cell_of(const Level& l, const geometry::Vec3& x, std::int64_t c[3]) const;
+  /// Appends to `out` every entry of the cell `key` strictly within the radius of x.
+  void scan(const Level& l, std::int64_t key, const geometry::Vec3& x, double r2,
+            std::vector<std::int32_t>& out, std::int32_t skip) const;
 
   int dim_;
   double base_, ratio_;

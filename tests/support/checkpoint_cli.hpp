@@ -71,14 +71,17 @@ inline std::string without_wall_clock_columns(const std::string& csv) {
   return out;
 }
 
-/// Starts `dhpd ARGS` in `dir` with its output discarded; returns the child's pid.
-inline pid_t spawn_dhpd(const fs::path& dir, const std::vector<std::string>& args) {
+/// Starts `dhpd ARGS` in `dir` with stdout and stderr into the given files (discarded unless
+/// given); returns the child's pid.
+inline pid_t spawn_dhpd(const fs::path& dir, const std::vector<std::string>& args,
+                        const std::string& out = "/dev/null",
+                        const std::string& err = "/dev/null") {
   std::vector<std::string> all{DHPD_BIN};
   all.insert(all.end(), args.begin(), args.end());
   const pid_t pid = fork();
   if (pid == 0) {
     if (chdir(dir.c_str()) != 0) _exit(127);
-    if (!freopen("/dev/null", "w", stdout) || !freopen("/dev/null", "w", stderr)) _exit(127);
+    if (!freopen(out.c_str(), "w", stdout) || !freopen(err.c_str(), "w", stderr)) _exit(127);
     std::vector<char*> argv;
     for (auto& a : all) argv.push_back(a.data());
     argv.push_back(nullptr);

@@ -136,13 +136,15 @@ class CliTest : public ::testing::Test {
     fs::remove_all(dir_, ec);
   }
 
-  /// Runs `dhpd ARGS... --set S...` in the test directory.
-  Outcome dhpd(const std::vector<std::string>& args, const std::vector<std::string>& sets = {}) {
+  /// Runs `dhpd ARGS... --set S...` in the test directory (or `program ARGS...`, e.g. a shell
+  /// that sets limits first).
+  Outcome dhpd(const std::vector<std::string>& args, const std::vector<std::string>& sets = {},
+               const std::string& program = DHPD_BIN) {
     const fs::path stem = dir_ / ("dhpd_" + std::to_string(++calls_));
     const fs::path out = fs::path(stem).replace_extension("stdout");
     const fs::path err = fs::path(stem).replace_extension("stderr");
     std::ostringstream command;
-    command << "cd " << quoted(dir_.string()) << " && " << quoted(DHPD_BIN);
+    command << "cd " << quoted(dir_.string()) << " && " << quoted(program);
     for (const auto& a : args) command << ' ' << quoted(a);
     for (const auto& s : sets) command << " --set " << quoted(s);
     command << " >" << quoted(out.string()) << " 2>" << quoted(err.string()) << " </dev/null";

@@ -132,4 +132,16 @@ TEST(Progress, EnabledThrottlesAndEndsLine) {
   EXPECT_EQ(out.back(), '\n');
 }
 
+TEST(Progress, TimeEndedRunsCountInSimulatedTimeWhateverTheSteps) {
+  // Refinement halves dt: the run does more steps than planned (441 of 233 once printed
+  // "ETA 0 s"). At 1 µs of simulated time per wall second, 6 µs before the end is 6 s away.
+  dhpd::io::Progress progress(233, false, 0, 1e-5);
+  EXPECT_EQ(progress.eta(100, 1e-6, 1.0), "--");  // no rate yet
+  EXPECT_EQ(progress.eta(441, 4e-6, 4.0), "6");   // past the planned steps, not "0"
+  EXPECT_EQ(progress.eta(900, 1e-5, 10.0), "0");
+  // A step-ended run: the steps left at the rate so far.
+  dhpd::io::Progress steps(1000, false);
+  EXPECT_EQ(steps.eta(250, 0.0, 5.0), "15");
+}
+
 }  // namespace

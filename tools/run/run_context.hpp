@@ -133,16 +133,6 @@ struct RunContext {
         checkpoint_file.string(),
         good_frame ? " and the last frame passed the check" : " and written as the final frame");
   }
-  /// The current state as the checkpoint and the final frame (a run stopped between steps).
-  std::string write_current() {
-    const auto& written = frames.entries();
-    const bool have_frame = !written.empty() && written.back().first >= sim.time();
-    if (!have_frame) write_frame();
-    checkpoint();
-    return fmt::format("; the state of step {} (t = {:.6g} s) is in {}{}", sim.steps_done(),
-                       sim.time(), checkpoint_file.string(),
-                       have_frame ? " and its frame" : " and written as the final frame");
-  }
   /// Whether step k writes a checkpoint: every output.checkpoint_every steps (never for 0), and
   /// when output.checkpoint_minutes of wall time passed since the last one (or the start).
   bool checkpoint_due(std::int64_t k) const {

@@ -95,6 +95,26 @@ io::Summary make_summary(const scene::Scene& s, const Simulation& sim, double wa
                                    name, k, ctx.sim.time(), ctx.checkpoint_file.string(), again));
 }
 
+/// SIGINT/SIGTERM inside the refinement event after step k: back to the last good state, which
+/// becomes the checkpoint (and the final frame when no frame of it exists), then RunInterrupted.
+[[noreturn]] void interrupt_event(RunContext& ctx, int signal, std::int64_t k) {
+  const char* name = signal == SIGINT ? "SIGINT" : "SIGTERM";
+  const std::string kept = ctx.write_last_good();
+  if (kept.empty())
+    throw RunInterrupted(signal, fmt::format("{} during the refinement event after step {}: the "
+                                             "event was abandoned; no state was saved to continue "
+                                             "from",
+                                             name, k));
+  const auto dir = ctx.checkpoint_file.parent_path().string();
+  const auto again = ctx.command_words.empty()
+                         ? fmt::format("dhpd run {} -o {} --restart {}", ctx.scene.file, dir, dir)
+                         : run::restart_command(ctx.command_words, dir);
+  throw RunInterrupted(
+      signal, fmt::format("{} during the refinement event after step {}: the event was abandoned "
+                          "and the run went back to its last good state{}; continue with: {}",
+                          name, k, kept, again));
+}
+
 /// Steps until the schedule says the run is over; refinement checks after each due step, crack
 /// measurements at step 0, every `measure.every` steps and at the last step; checkpoints every
 /// output.checkpoint_every steps and at the end. A restarted run starts after its checkpoint.
@@ -108,12 +128,26 @@ void time_loop(RunContext& ctx, io::Progress& progress) {
     ctx.measure(false);
   }
   const InterruptSignals signals;
+  // A signal during an event stops it within a fraction of a second; the run then goes back to
+  // its last good state (the event had half edited the discretisation) and stops there.
+  if (hook) hook->refiner.set_cancel_check([&signals] { return signals.caught() != 0; });
+  const struct Forget {
+    RefinementHook* hook;
+    ~Forget() {
+      if (hook) hook->refiner.set_cancel_check({});
+    }
+  } forget{hook};
   for (std::int64_t k = first; !schedule.finished(k - 1, sim.time()); ++k) {
     sim.step();
     // A signal already caught starts no refinement event: the run stops after this step.
     if (hook && hook->refiner.due(k) && !signals.caught()) {
-      const auto ev = hook->refiner.check(sim);
-      if (ev.parents > 0) hook->log(sim, ev);
+      try {
+        const auto ev = hook->refiner.check(sim);
+        if (ev.parents > 0) hook->log(sim, ev);
+      } catch (const refine::EventCancelled&) {
+        progress.finish();
+        interrupt_event(ctx, signals.caught(), k);
+      }
     }
     const bool frame = schedule.frame(k, sim.time());
     if (frame || k % ctx.scene.output.history_every == 0) ctx.record(frame);
@@ -346,8 +380,10 @@ void run_scene(const scene::Scene& s, const RunOptions& opt) {
     throw IoError(message);
   } catch (const ResourceLimit& e) {
     progress.finish();
-    // The event was refused before it changed anything: the current state is whole.
-    const std::string message = e.what() + ctx.write_current();
+    // The last good state, not the current one: a restart from it meets the refused event again
+    // (a checkpoint after step k would skip step k's refinement check and differ from a run
+    // with a larger budget).
+    const std::string message = e.what() + ctx.write_last_good();
     finish("resource_limit", message);
     throw ResourceLimit(message);
   }
