@@ -95,7 +95,8 @@ def trace(points, spacing, horizon, tip, separation=2.0):
     if not reached.any():
         return crack
     width = float(np.median(horizon[reached]))
-    bins = np.floor(distance / width).astype(int)
+    bins = np.full(len(points), -1)  # -1: not reached (distance inf, which no int can hold)
+    bins[reached] = np.floor(distance[reached] / width).astype(int)
     previous = []
     for b in range(int(bins[reached].max()) + 1):
         members = np.nonzero(reached & (bins == b))[0]

@@ -154,6 +154,21 @@ def top_level_rows(summary):
             if key != "lefm" and key not in tips and not isinstance(value, dict)]
 
 
+def as_numbers(value):
+    """Numbers written as text back as floats, recursively: PyYAML reads YAML 1.1, in which
+    scene.resolved.yaml's 5e-06 (no decimal point) is a string."""
+    if isinstance(value, dict):
+        return {k: as_numbers(v) for k, v in value.items()}
+    if isinstance(value, list):
+        return [as_numbers(v) for v in value]
+    if isinstance(value, str):
+        try:
+            return float(value)
+        except ValueError:
+            return value
+    return value
+
+
 def measured_section(run):
     """## Measured numbers: a table per tip (measured, published, LEFM), the published
     top-level numbers, the Rayleigh speed."""
@@ -163,6 +178,12 @@ def measured_section(run):
     if not cracks and run.cracks is not None and not summary:
         cracks = cracks_from_csv(run.cracks)
         lines += ["From cracks.csv (no summary.json: the run did not finish).", ""]
+        # The references summary.json would have copied: the resolved scene's measure.published.
+        published = ((run.scene or {}).get("measure") or {}).get("published")
+        if isinstance(published, dict) and published:
+            summary = {"published": as_numbers(published)}
+            lines += ["Published and LEFM values from scene.resolved.yaml (`measure.published`).",
+                      ""]
     if not cracks:
         lines += ["summary.json has no crack measurements (`cracks`)"
                   + (" and no `published` numbers." if not summary.get("published") else "."), ""]
