@@ -79,16 +79,22 @@ io::Summary make_summary(const scene::Scene& s, const Simulation& sim, double wa
   return sum;
 }
 
+/// The command that continues this run from its checkpoint (the first command line with its
+/// overrides, then -o DIR --restart DIR).
+std::string restart_hint(const RunContext& ctx) {
+  const auto dir = ctx.checkpoint_file.parent_path().string();
+  return ctx.command_words.empty()
+             ? fmt::format("dhpd run {} -o {} --restart {}", ctx.scene.file, dir, dir)
+             : run::restart_command(ctx.command_words, dir);
+}
+
 /// SIGINT/SIGTERM after step k: the checkpoint of this state (unless step k just wrote it), then
 /// a final frame (unless step k wrote one), then RunInterrupted.
 [[noreturn]] void interrupt(RunContext& ctx, int signal, std::int64_t k, bool frame_written) {
   if (!ctx.checkpoint_due(k)) ctx.checkpoint();
   if (!frame_written) ctx.write_frame();
   const char* name = signal == SIGINT ? "SIGINT" : "SIGTERM";
-  const auto dir = ctx.checkpoint_file.parent_path().string();
-  const auto again = ctx.command_words.empty()
-                         ? fmt::format("dhpd run {} -o {} --restart {}", ctx.scene.file, dir, dir)
-                         : run::restart_command(ctx.command_words, dir);
+  const auto again = restart_hint(ctx);
   throw RunInterrupted(signal,
                        fmt::format("{} after step {} (t = {:.6g} s); checkpoint {}; "
                                    "continue with: {}",
@@ -105,10 +111,7 @@ io::Summary make_summary(const scene::Scene& s, const Simulation& sim, double wa
                                              "event was abandoned; no state was saved to continue "
                                              "from",
                                              name, k));
-  const auto dir = ctx.checkpoint_file.parent_path().string();
-  const auto again = ctx.command_words.empty()
-                         ? fmt::format("dhpd run {} -o {} --restart {}", ctx.scene.file, dir, dir)
-                         : run::restart_command(ctx.command_words, dir);
+  const auto again = restart_hint(ctx);
   throw RunInterrupted(
       signal, fmt::format("{} during the refinement event after step {}: the event was abandoned "
                           "and the run went back to its last good state{}; continue with: {}",
