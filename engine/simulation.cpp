@@ -21,7 +21,7 @@ Simulation::Simulation(const SimulationSetup& setup) : setup_(setup), p_(setup.s
     dual_ = build_dual(bonds_);
     if (corrects_interfaces())
       initial_interfaces_ = correct_level_interfaces(bonds_, dual_, p_, C_, {});
-    il_ = build_interactions(setup_.model, bonds_, dual_, p_, C_);
+    il_ = build_interactions(row_inputs());
   }
   particle_time_steps(il_, p_, particle_dt_);
   critical_dt_ = smallest(particle_dt_);
@@ -95,10 +95,17 @@ void Simulation::update_bond_constants(const std::vector<std::int32_t>& slots) {
   }
 }
 
-void Simulation::compute_forces() {
+RowInputs Simulation::row_inputs() const {
+  return {setup_.model, bonds_, dual_, p_, C_, s0_};
+}
+
+void Simulation::compute_forces(bool with_fracture) {
   {
     auto t = timers_.scope(Phase::Forces);
-    internal_force_density(il_, p_);
+    if (with_fracture)
+      broken_ += force_and_break(il_, bonds_, p_, row_inputs());
+    else
+      internal_force_density(il_, p_);
   }
   auto t = timers_.scope(Phase::Loads);
   for (std::size_t k = 0; k < loads_.loaded.size(); ++k)
@@ -150,11 +157,7 @@ void Simulation::step() {
         p_.position[a][i] = p_.reference_position[a][i] + p_.displacement[a][i];
       }
   }
-  if (setup_.effects.fracture) {
-    auto t = timers_.scope(Phase::Fracture);
-    broken_ += break_bonds(bonds_, il_, p_, s0_);
-  }
-  compute_forces();
+  compute_forces(setup_.effects.fracture);
   {
     auto t = timers_.scope(Phase::Integrate);
 #pragma omp parallel for schedule(static) if (n >= kParallelMinParticles)
@@ -180,7 +183,7 @@ void Simulation::step() {
   last_power_ = power;
   time_ += dt_;
   ++steps_;
-  interaction_updates_ += static_cast<std::int64_t>(il_.size());
+  bond_updates_ += static_cast<std::int64_t>(bonds_.size());
 }
 
 Energies Simulation::energies() {
@@ -251,6 +254,18 @@ void Simulation::stop_unstable(const char* measured, double energy, double allow
   f.energy = energy;
   f.allowed = allowed;
   throw InstabilityError(describe_instability(f, p_, particle_dt_, bonds_.rows.count));
+}
+
+Simulation::MemoryUse Simulation::memory_use() const {
+  MemoryUse m;
+  m.particles = p_.bytes();
+  m.bonds = bonds_.bytes();
+  m.dual = dual_.bytes();
+  m.rows = il_.bytes();
+  for (const auto* v : {&C_, &s0_, &particle_dt_, &kinetic_blocks_})
+    m.other += v->capacity() * sizeof(double);
+  m.other += touched_.capacity();
+  return m;
 }
 
 void Simulation::update_damage() {

@@ -140,6 +140,13 @@ class Simulation {
   bool corrects_interfaces() const;
   const ResolvedLoads& loads() const { return loads_; }
 
+  /// Bytes the simulation holds, by part (capacities of its arrays: what the allocator gave).
+  struct MemoryUse {
+    std::size_t particles = 0, bonds = 0, dual = 0, rows = 0, other = 0;
+    std::size_t total() const { return particles + bonds + dual + rows + other; }
+  };
+  MemoryUse memory_use() const;
+
   const ParticleStore& particles() const { return p_; }
   ParticleStore& particles() { return p_; }
   const BondList& bonds() const { return bonds_; }
@@ -160,14 +167,17 @@ class Simulation {
   bool dt_is_stable() const { return dt_ <= critical_dt_; }
   std::int64_t steps_done() const { return steps_; }
   std::int64_t broken_bonds() const { return broken_; }
-  std::int64_t interaction_updates() const { return interaction_updates_; }
+  /// Directed bonds evaluated so far (live bonds summed over the steps): the benchmark's unit.
+  std::int64_t bond_updates() const { return bond_updates_; }
 
  private:
   friend struct CheckpointAccess;  ///< engine/checkpoint.cpp: archives every member below
   void init_particles();
   void update_bond_constants();
   void update_bond_constants(const std::vector<std::int32_t>& slots);
-  void compute_forces();
+  /// Internal force densities plus body forces; with fracture, bonds break in the same pass.
+  void compute_forces(bool with_fracture = false);
+  RowInputs row_inputs() const;
   void enforce_prescribed_velocity();
   double boundary_power() const;
   /// Throws InstabilityError; a NaN `energy` reports a non-finite state.
@@ -202,7 +212,7 @@ class Simulation {
   bool conservative_ = true;            ///< the model conserves energy (not classical-variable)
   double blowup_factor_ = 2.0;          ///< plain energy above this × the balance is a blow-up
   std::vector<double> kinetic_blocks_;  ///< guard scratch
-  std::int64_t steps_ = 0, broken_ = 0, interaction_updates_ = 0;
+  std::int64_t steps_ = 0, broken_ = 0, bond_updates_ = 0;
   std::int64_t generation_ = 0;
   std::int32_t next_id_ = 0;
   InterfaceCorrection initial_interfaces_;

@@ -66,10 +66,8 @@ EditOutcome Simulation::commit_edit(const DiscretisationChange& change,
   // stay consistent (docs/theory.md §14).
   if (corrects_interfaces())
     out.interfaces = correct_level_interfaces(bonds_, dual_, p_, C_, dirty);
-  il_.own_slot.resize(bonds_.slots(), -1);
-  il_.dual_slot.resize(bonds_.slots(), -1);
-  for (const auto i : dirty)
-    rebuild_interaction_row(il_, static_cast<std::size_t>(i), setup_.model, bonds_, dual_, p_, C_);
+  const auto inputs = row_inputs();
+  for (const auto i : dirty) rebuild_interaction_row(il_, static_cast<std::size_t>(i), inputs);
   particle_time_steps(il_, p_, particle_dt_, &dirty);
   critical_dt_ = smallest(particle_dt_);  // one double per particle: cheap next to the rebuild
   // A fixed step stays while it is stable; otherwise the scene's safety applies to the new bound.
@@ -115,7 +113,7 @@ double Simulation::compact() {
   bonds_ = renumbered_bonds(bonds_, order, new_index);
   dual_ = build_dual(bonds_);
   update_bond_constants();
-  il_ = build_interactions(setup_.model, bonds_, dual_, p_, C_);
+  il_ = build_interactions(row_inputs());
   particle_time_steps(il_, p_, particle_dt_);
   renumber_loads(loads_, new_index);
   touched_.assign(n, 0);

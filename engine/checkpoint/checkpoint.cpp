@@ -67,8 +67,8 @@ struct CheckpointAccess {
     rows(s.dual_.rows, ar);
     ar(s.dual_.bond);
     rows(s.il_.rows, ar);
-    ar(s.il_.other), ar(s.il_.inv_length), ar(s.il_.coefficient), ar(s.il_.own_slot);
-    ar(s.il_.dual_slot), ar(s.il_.live);
+    ar(s.il_.other), ar(s.il_.inv_length), ar(s.il_.coefficient), ar(s.il_.break_at);
+    ar(s.il_.own_bond), ar(s.il_.dual_bond), ar(s.il_.alive), ar(s.il_.live);
     auto& l = s.loads_;
     ar(l.prescribed), ar(l.mask), ar(l.prescribed_velocity), ar(l.loaded), ar(l.body_force);
     ar(l.condition_body_force);
@@ -78,7 +78,7 @@ struct CheckpointAccess {
     ar(s.external_work_), ar(s.last_power_);
     ar(s.budget_.tolerance), ar(s.budget_.initial), ar(s.budget_.mapping), ar(s.budget_.scale);
     ar(s.conservative_), ar(s.blowup_factor_);
-    ar(s.steps_), ar(s.broken_), ar(s.interaction_updates_), ar(s.generation_), ar(s.next_id_);
+    ar(s.steps_), ar(s.broken_), ar(s.bond_updates_), ar(s.generation_), ar(s.next_id_);
   }
 
   template <class Ar>
@@ -160,7 +160,8 @@ struct CheckpointAccess {
     const auto n = static_cast<std::int64_t>(s.p_.size());
     const auto& b = s.bonds_;
     const std::size_t slots = b.neighbor.size();
-    const auto entries = static_cast<std::int64_t>(s.il_.other.size());
+    const auto& il = s.il_;
+    const std::size_t entries = il.other.size();
     const auto& l = s.loads_;
     const bool ok = rows_fit(b.rows, s.p_.size(), slots) && b.owner.size() == slots &&
                     b.length.size() == slots && b.weight.size() == slots &&
@@ -168,13 +169,14 @@ struct CheckpointAccess {
                     in_range(b.owner, -1, n) && in_range(b.neighbor, -1, n) &&
                     rows_fit(s.dual_.rows, s.p_.size(), s.dual_.bond.size()) &&
                     in_range(s.dual_.bond, -1, static_cast<std::int64_t>(slots)) &&
-                    rows_fit(s.il_.rows, s.p_.size(), s.il_.other.size()) &&
-                    s.il_.inv_length.size() == s.il_.other.size() &&
-                    s.il_.coefficient.size() == s.il_.other.size() &&
-                    in_range(s.il_.other, -1, n) && s.il_.own_slot.size() == slots &&
-                    s.il_.dual_slot.size() == slots && in_range(s.il_.own_slot, -1, entries) &&
-                    in_range(s.il_.dual_slot, -1, entries) && in_range(l.prescribed, 0, n) &&
-                    in_range(l.loaded, 0, n) && l.mask.size() == l.prescribed.size() &&
+                    rows_fit(il.rows, s.p_.size(), entries) && il.inv_length.size() == entries &&
+                    il.coefficient.size() == entries && il.break_at.size() == entries &&
+                    il.own_bond.size() == entries && il.dual_bond.size() == entries &&
+                    il.alive.size() == entries && in_range(il.other, -1, n) &&
+                    in_range(il.own_bond, -1, static_cast<std::int64_t>(slots)) &&
+                    in_range(il.dual_bond, -1, static_cast<std::int64_t>(slots)) &&
+                    in_range(l.prescribed, 0, n) && in_range(l.loaded, 0, n) &&
+                    l.mask.size() == l.prescribed.size() &&
                     l.prescribed_velocity.size() == l.prescribed.size() &&
                     l.body_force.size() == l.loaded.size();
     if (!ok) ar.fail("its bond, dual, interaction or load arrays do not fit together");

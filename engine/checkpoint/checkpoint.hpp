@@ -19,7 +19,7 @@ namespace dhpd {
 
 // 2: bond stiffness factors, crack tracks' initial angles and branch speeds;
 // 3: refinement's search grid and event scratch left the state, the layout version entered.
-constexpr std::uint32_t kCheckpointVersion = 3;
+constexpr std::uint32_t kCheckpointVersion = 4;
 
 /// The in-memory snapshot of a simulation (every array as it is, row arenas included).
 std::vector<std::byte> save_simulation(const Simulation& sim);

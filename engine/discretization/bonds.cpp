@@ -211,4 +211,20 @@ BondList renumbered_bonds(const BondList& bonds, const std::vector<std::int32_t>
   return b;
 }
 
+namespace {
+template <class T>
+std::size_t held(const std::vector<T>& v) {
+  return v.capacity() * sizeof(T);
+}
+}  // namespace
+
+std::size_t BondList::bytes() const {
+  return rows.bytes() + held(owner) + held(neighbor) + held(length) + held(weight) + held(intact) +
+         held(stiffness);
+}
+
+std::size_t DualList::bytes() const {
+  return rows.bytes() + held(bond);
+}
+
 }  // namespace dhpd

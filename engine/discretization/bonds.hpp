@@ -36,6 +36,8 @@ struct BondList {
   std::int64_t end(std::size_t i) const { return rows.end(i); }
   /// Resizes the slot arrays to the arena (new slots are garbage).
   void fit_arena();
+  /// Bytes held by the arrays (capacities).
+  std::size_t bytes() const;
 };
 
 struct DualList {
@@ -48,6 +50,8 @@ struct DualList {
   void add(std::size_t j, BondId b);
   /// Removes bond b from j's dual row, keeping the order of the others.
   void remove(std::size_t j, BondId b);
+  /// Bytes held by the arrays (capacities).
+  std::size_t bytes() const;
 };
 
 /// Partial-volume factor β for a neighbour at distance `distance` with radius r_j (docs/theory.md

@@ -5,6 +5,23 @@
 
 namespace dhpd {
 
+std::size_t ParticleStore::bytes() const {
+  std::size_t total = 0;
+  // fields() hands out writable pointers; here they are only read.
+  for (const auto& f : const_cast<ParticleStore*>(this)->fields())
+    std::visit(
+        [&](const auto* arr) {
+          using T = std::remove_cv_t<std::remove_pointer_t<decltype(arr)>>;
+          if constexpr (std::is_same_v<T, VectorArray>) {
+            for (const auto& c : *arr) total += c.capacity() * sizeof(double);
+          } else {
+            total += arr->capacity() * sizeof(typename T::value_type);
+          }
+        },
+        f.data);
+  return total;
+}
+
 std::vector<FieldInfo> ParticleStore::fields() {
   using G = FieldGroup;
   using S = SplitRule;

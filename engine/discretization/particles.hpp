@@ -49,6 +49,8 @@ class ParticleStore {
   /// Every registered field, in a fixed order: the splitter, the checkpoint and the output
   /// frames (engine/output_fields.hpp) iterate this.
   std::vector<FieldInfo> fields();
+  /// Bytes the registered fields hold (capacities: what the allocator gave).
+  std::size_t bytes() const;
 
   // Geometry (reference configuration; rewritten only by refinement).
   VectorArray reference_position;

@@ -14,6 +14,11 @@ struct RowIndex {
   std::int64_t garbage = 0;  ///< slots of rows that moved away (reclaimed only by compaction)
 
   std::size_t rows() const { return start.size(); }
+  /// Bytes held by the index arrays (capacities).
+  std::size_t bytes() const {
+    return start.capacity() * sizeof(std::int64_t) +
+           (count.capacity() + capacity.capacity()) * sizeof(std::int32_t);
+  }
   std::int64_t begin(std::size_t i) const { return start[i]; }
   std::int64_t end(std::size_t i) const { return start[i] + count[i]; }
 

@@ -38,11 +38,17 @@ inline double stretch(double current_length2, double length) {
   return std::sqrt(current_length2) / length - 1.0;
 }
 
+/// The squared current length at which a bond of reference length |ξ| reaches the critical
+/// stretch s0: ((1 + s0) |ξ|)² (the interaction rows store it per bond).
+inline double critical_length2(double length, double s0) {
+  const double limit = (1.0 + s0) * length;
+  return limit * limit;
+}
+
 /// Whether a bond has reached the critical stretch s0 (s ≥ s0), compared on squared lengths:
 /// |y|² ≥ ((1 + s0) |ξ|)², no square root. s0 = +∞ (no G0) never breaks.
 inline bool reaches_critical_stretch(double current_length2, double length, double s0) {
-  const double limit = (1.0 + s0) * length;
-  return current_length2 >= limit * limit;
+  return current_length2 >= critical_length2(length, s0);
 }
 
 /// The coefficient c of a bond in an interaction row: force density per unit stretch on the row's

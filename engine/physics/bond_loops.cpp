@@ -3,6 +3,7 @@
 #include "engine/physics/bond_loops.hpp"
 #include "engine/base/parallel.hpp"
 #include "engine/physics/bond_law.hpp"
+#include "engine/physics/force_kernel.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -24,61 +25,23 @@ void each_row(std::size_t n, const std::vector<std::int32_t>* rows, F&& f) {
   for (std::int64_t i = 0; i < count; ++i) f(i);
 }
 
-/// Force density of row i (no allocation, one gather over the row).
-template <int Dim>
-inline void force_row(std::int64_t i, const double* const y[3], double* const f[3],
-                      const std::int64_t* start, const std::int32_t* count,
-                      const std::int32_t* other, const double* inv_len, const double* coef) {
-  double yi[Dim], acc[Dim];
-  for (int a = 0; a < Dim; ++a) yi[a] = y[a][i], acc[a] = 0.0;
-  const std::int64_t row_end = start[i] + count[i];
-  for (std::int64_t k = start[i]; k < row_end; ++k) {
-    const std::int32_t j = other[k];
-    double dx[Dim], l2 = 0.0;
-    for (int a = 0; a < Dim; ++a) dx[a] = y[a][j] - yi[a], l2 += dx[a] * dx[a];
-    const double scale = bond_law::force_factor(coef[k], inv_len[k], l2);
-    for (int a = 0; a < Dim; ++a) acc[a] += scale * dx[a];
-  }
-  for (int a = 0; a < Dim; ++a) f[a][i] = acc[a];
-}
-
-/// Every row, or only `subset` when given.
-template <int Dim>
-void force_rows(const InteractionList& il, ParticleStore& p,
-                const std::vector<std::int32_t>* subset) {
-  const double* const y[3] = {p.position[0].data(), p.position[1].data(), p.position[2].data()};
-  double* const f[3] = {p.force_density[0].data(), p.force_density[1].data(),
-                        p.force_density[2].data()};
-  const auto* start = il.rows.start.data();
-  const auto* count = il.rows.count.data();
-  const auto* other = il.other.data();
-  const auto* inv_len = il.inv_length.data();
-  const auto* coef = il.coefficient.data();
-  each_row(p.size(), subset,
-           [&](std::int64_t i) { force_row<Dim>(i, y, f, start, count, other, inv_len, coef); });
-}
-
-template <int Dim>
-std::int64_t break_rows(BondList& bonds, InteractionList& il, const ParticleStore& p,
-                        const std::vector<double>& s0) {
-  const auto n = static_cast<std::int64_t>(p.size());
-  const double* const y[3] = {p.position[0].data(), p.position[1].data(), p.position[2].data()};
+/// Every row, or only `subset` when given, with the kernel build this CPU runs.
+template <int Dim, bool Fracture>
+std::int64_t force_rows(const InteractionList& il, const kernel::Breaking& w, ParticleStore& p,
+                        const std::vector<std::int32_t>* subset) {
+  const kernel::Fields x{
+      {p.position[0].data(), p.position[1].data(), p.position[2].data()},
+      {p.force_density[0].data(), p.force_density[1].data(), p.force_density[2].data()}};
+  const kernel::RowArrays r(il);
+  const auto row = kernel::row_kernel<Dim, Fracture>(kernel::best_build());
   std::int64_t broken = 0;
-#pragma omp parallel for schedule(static) reduction(+ : broken) if (n >= kParallelMinParticles)
-  for (std::int64_t i = 0; i < n; ++i) {
-    if (p.no_fail[i]) continue;
-    const double limit = s0[i];
-    for (auto b = bonds.begin(i); b < bonds.end(i); ++b) {
-      if (!bonds.intact[b]) continue;
-      const double l2 = bond_law::squared_length<Dim>(y, static_cast<std::size_t>(i),
-                                                      static_cast<std::size_t>(bonds.neighbor[b]));
-      if (!bond_law::reaches_critical_stretch(l2, bonds.length[b], limit)) continue;
-      bonds.intact[b] = 0;
-      il.coefficient[il.own_slot[b]] = 0.0;
-      if (il.dual_slot[b] >= 0) il.coefficient[il.dual_slot[b]] = 0.0;
-      ++broken;
-    }
+  if (subset) {
+    for (const auto i : *subset) broken += row(i, x, r, w);
+    return broken;
   }
+  const auto n = static_cast<std::int64_t>(p.size());
+#pragma omp parallel for schedule(static) reduction(+ : broken) if (n >= kParallelMinParticles)
+  for (std::int64_t i = 0; i < n; ++i) broken += row(i, x, r, w);
   return broken;
 }
 
@@ -119,12 +82,13 @@ double energy_of(const BondList& bonds, const ParticleStore& p, const std::vecto
 
 void internal_force_density(const InteractionList& il, ParticleStore& p,
                             const std::vector<std::int32_t>* rows) {
-  with_dim(p.dim(), [&](auto d) { force_rows<d()>(il, p, rows); });
+  with_dim(p.dim(), [&](auto d) { force_rows<d(), false>(il, kernel::Breaking{}, p, rows); });
 }
 
-std::int64_t break_bonds(BondList& bonds, InteractionList& il, const ParticleStore& p,
-                         const std::vector<double>& s0) {
-  return with_dim(p.dim(), [&](auto d) { return break_rows<d()>(bonds, il, p, s0); });
+std::int64_t force_and_break(InteractionList& il, BondList& bonds, ParticleStore& p,
+                             const RowInputs& in) {
+  const kernel::Breaking w{&il, &in, bonds.intact.data()};
+  return with_dim(p.dim(), [&](auto d) { return force_rows<d(), true>(il, w, p, nullptr); });
 }
 
 void strain_energy_density(const BondList& bonds, const ParticleStore& p,

@@ -18,10 +18,13 @@ namespace dhpd {
 void internal_force_density(const InteractionList& il, ParticleStore& p,
                             const std::vector<std::int32_t>* rows = nullptr);
 
-/// Breaks every intact bond with s ≥ s0 of its owner (owners flagged no_fail are skipped).
-/// Zeroes both views of a broken bond. Returns the number of bonds broken by this call.
-std::int64_t break_bonds(BondList& bonds, InteractionList& il, const ParticleStore& p,
-                         const std::vector<double>& critical_stretch);
+/// internal_force_density of every row with bond breaking fused in: each intact bond with
+/// s ≥ s0 of its owner (as the rows' break thresholds hold it; no_fail owners never break) is
+/// zeroed in both rows of its pair and marked broken in `bonds` before the force is summed.
+/// Returns the number of bonds broken by this call.
+/// `in` describes the same bonds and particles with the owners' constants (C, s0).
+std::int64_t force_and_break(InteractionList& il, BondList& bonds, ParticleStore& p,
+                             const RowInputs& in);
 
 /// φ_i = 1 − Σ μ β V_j / Σ β V_j over own bonds (docs/theory.md §8); written to p.damage.
 /// With `rows`, only those particles are updated.

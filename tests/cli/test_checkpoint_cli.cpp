@@ -107,10 +107,10 @@ TEST_F(CheckpointCli, DamagedMissingOrForeignCheckpointsAreRefusedBeforeAnything
   flipped[flipped.size() / 3] ^= 0x20;
   damaged("flipped", flipped);
   refused("flipped", "checksum");
-  auto old = bytes;  // the format before refinement's grid left the state
-  old[8] = 2;
+  auto old = bytes;  // the format before one row entry per neighbour pair
+  old[8] = 3;
   damaged("old", old);
-  refused("old", "format version 2, this dhpd reads version 3");
+  refused("old", "format version 3, this dhpd reads version 4");
   damaged("text", "not a checkpoint at all, just some text in a file");
   refused("text", "header");
   damaged("noframe", bytes);

@@ -85,8 +85,21 @@ TEST(MultipleMaterials, EachBondUsesItsOwnersMaterialInBothViews) {
       const auto& own = sim.setup().materials[static_cast<std::size_t>(p.material[i])];
       const double C = micromodulus(own, sim.setup().section, p.horizon[i]);
       const double K = C * b.weight[k] * b.stiffness[k];  // stiffness: interface correction
-      EXPECT_DOUBLE_EQ(rows.coefficient[rows.own_slot[k]], K * p.volume[j]);
-      EXPECT_DOUBLE_EQ(rows.coefficient[rows.dual_slot[k]], K * p.volume[i]);
+      const auto in_i = rows.find(i, static_cast<std::int32_t>(j));
+      const auto in_j = rows.find(j, static_cast<std::int32_t>(i));
+      ASSERT_GE(in_i, 0);
+      ASSERT_GE(in_j, 0);
+      // Row i's entry holds this bond and the reverse one (owned by j, with j's material).
+      EXPECT_EQ(rows.own_bond[in_i], k);
+      EXPECT_EQ(rows.dual_bond[in_j], k);
+      const auto reverse = rows.own_bond[in_j];  // −1 when i is outside j's smaller horizon
+      EXPECT_EQ(rows.dual_bond[in_i], reverse);
+      const auto& theirs = sim.setup().materials[static_cast<std::size_t>(p.material[j])];
+      const double K_rev = reverse < 0 ? 0.0
+                                       : micromodulus(theirs, sim.setup().section, p.horizon[j]) *
+                                             b.weight[reverse] * b.stiffness[reverse];
+      EXPECT_DOUBLE_EQ(rows.coefficient[in_i], (K + K_rev) * p.volume[j]);
+      EXPECT_DOUBLE_EQ(rows.coefficient[in_j], (K + K_rev) * p.volume[i]);
       EXPECT_EQ(sim.critical_stretch()[i],
                 critical_stretch(own, sim.setup().section, p.horizon[i]));
       mixed += p.material[i] != p.material[j];

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <random>
 #include <tuple>
@@ -49,13 +50,18 @@ std::vector<std::vector<std::int32_t>> duals_by_id(const DualList& d, const Bond
   return out;
 }
 
-using EntryKey = std::tuple<std::int32_t, double, double>;
+using EntryKey = std::tuple<std::int32_t, double, double, float, int>;
+/// A break threshold that compares equal to itself (kNeverBreaks is NaN).
+float comparable(float threshold) {
+  return std::isnan(threshold) ? HUGE_VALF : threshold;
+}
 std::vector<std::vector<EntryKey>> interactions_by_id(const InteractionList& il,
                                                       const ParticleStore& p) {
   std::vector<std::vector<EntryKey>> out(p.size());
   for (std::size_t i = 0; i < p.size(); ++i) {
     for (auto k = il.begin(i); k < il.end(i); ++k)
-      out[i].emplace_back(p.id[il.other[k]], il.inv_length[k], il.coefficient[k]);
+      out[i].emplace_back(p.id[il.other[k]], il.inv_length[k], il.coefficient[k],
+                          comparable(il.break_at[k]), il.alive[k]);
     std::sort(out[i].begin(), out[i].end());
   }
   return out;
@@ -83,8 +89,8 @@ std::size_t expect_equals_from_scratch(const Simulation& sim, const refine::Refi
                                        fresh.length[k], sim.critical_stretch()[i]))
         fresh.intact[k] = 0;
   const DualList fresh_dual = build_dual(fresh);
-  const auto fresh_il =
-      build_interactions(sim.setup().model, fresh, fresh_dual, p, sim.micromodulus());
+  const auto fresh_il = build_interactions(
+      {sim.setup().model, fresh, fresh_dual, p, sim.micromodulus(), sim.critical_stretch()});
   EXPECT_EQ(sim.bonds().size(), fresh.size());
   EXPECT_EQ(sim.interactions().size(), fresh_il.size());
   // The incrementally edited lists are consistent in themselves (garbage and moved rows included).

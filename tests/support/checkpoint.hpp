@@ -116,8 +116,10 @@ inline void expect_identical(Simulation& a, Simulation& b) {
   expect_same_bytes(ia.other, ib.other, "interaction other");
   expect_same_bytes(ia.coefficient, ib.coefficient, "interaction coefficient");
   expect_same_bytes(ia.inv_length, ib.inv_length, "interaction 1/length");
-  expect_same_bytes(ia.own_slot, ib.own_slot, "own slots");
-  expect_same_bytes(ia.dual_slot, ib.dual_slot, "dual slots");
+  expect_same_bytes(ia.break_at, ib.break_at, "break thresholds");
+  expect_same_bytes(ia.own_bond, ib.own_bond, "interaction own bond");
+  expect_same_bytes(ia.dual_bond, ib.dual_bond, "interaction dual bond");
+  expect_same_bytes(ia.alive, ib.alive, "interaction alive bits");
   expect_same_bytes(a.micromodulus(), b.micromodulus(), "C");
   expect_same_bytes(a.critical_stretch(), b.critical_stretch(), "s0");
   EXPECT_EQ(bits(a.time()), bits(b.time()));
@@ -126,7 +128,7 @@ inline void expect_identical(Simulation& a, Simulation& b) {
   EXPECT_EQ(a.steps_done(), b.steps_done());
   EXPECT_EQ(a.broken_bonds(), b.broken_bonds());
   EXPECT_EQ(a.generation(), b.generation());
-  EXPECT_EQ(a.interaction_updates(), b.interaction_updates());
+  EXPECT_EQ(a.bond_updates(), b.bond_updates());
   const auto ea = a.energies(), eb = b.energies();
   EXPECT_EQ(bits(ea.kinetic), bits(eb.kinetic));
   EXPECT_EQ(bits(ea.strain), bits(eb.strain));

@@ -21,6 +21,7 @@ struct Assembly {
   DualList dual;
   InteractionList rows;
   std::vector<double> C;
+  std::vector<double> s0;  ///< empty: rows that never break
 };
 
 inline Assembly assemble(const ParticleStore& p, ForceModel model, PartialVolume pv,
@@ -30,7 +31,7 @@ inline Assembly assemble(const ParticleStore& p, ForceModel model, PartialVolume
   a.dual = build_dual(a.bonds);
   a.C.resize(p.size());
   for (std::size_t i = 0; i < p.size(); ++i) a.C[i] = micromodulus(m, s, p.horizon[i]);
-  a.rows = build_interactions(model, a.bonds, a.dual, p, a.C);
+  a.rows = build_interactions({model, a.bonds, a.dual, p, a.C, a.s0});
   return a;
 }
 

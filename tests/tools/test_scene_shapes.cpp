@@ -52,8 +52,18 @@ TEST(Inclusions, BondsOwnedByInclusionParticlesUseTheInclusionMaterial) {
     EXPECT_DOUBLE_EQ(sim->micromodulus()[i], C);
     for (auto k = b.begin(i); k < b.end(i); ++k) {
       const auto j = static_cast<std::size_t>(b.neighbor[k]);
-      EXPECT_DOUBLE_EQ(rows.coefficient[rows.own_slot[k]], C * b.weight[k] * p.volume[j]);
-      EXPECT_DOUBLE_EQ(rows.coefficient[rows.dual_slot[k]], C * b.weight[k] * p.volume[i]);
+      const auto in_i = rows.find(i, static_cast<std::int32_t>(j));
+      const auto in_j = rows.find(j, static_cast<std::int32_t>(i));
+      ASSERT_GE(in_i, 0);
+      ASSERT_GE(in_j, 0);
+      // The entry of j in row i sums this bond (i's material) and the reverse one (j's).
+      const auto reverse = rows.own_bond[in_j];
+      ASSERT_GE(reverse, 0);
+      const auto& theirs = sim->setup().materials[static_cast<std::size_t>(p.material[j])];
+      const double C_j = micromodulus(theirs, sim->setup().section, p.horizon[j]);
+      const double both = C * b.weight[k] + C_j * b.weight[reverse];
+      EXPECT_DOUBLE_EQ(rows.coefficient[in_i], both * p.volume[j]);
+      EXPECT_DOUBLE_EQ(rows.coefficient[in_j], both * p.volume[i]);
       steel_owned += p.material[i] == 1;
       mixed += p.material[i] != p.material[j];
     }

@@ -65,7 +65,7 @@ io::Summary make_summary(const scene::Scene& s, const Simulation& sim, double wa
   sum.bonds = static_cast<std::int64_t>(sim.bonds().size());
   sum.broken_bonds = sim.broken_bonds();
   const double force_s = std::max(sim.timers().seconds(Phase::Forces), 1e-12);
-  sum.bond_updates_per_second = static_cast<double>(sim.interaction_updates()) / force_s;
+  sum.bond_updates_per_second = static_cast<double>(sim.bond_updates()) / force_s;
   sum.particle_steps_per_second = static_cast<double>(sim.steps_done()) *
                                   static_cast<double>(sum.particles_end) / std::max(wall, 1e-12);
   sum.threads = omp_get_max_threads();

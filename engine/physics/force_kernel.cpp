@@ -1,0 +1,142 @@
+// Force kernel of one interaction row, plain and AVX2 (docs/theory.md §4, §18).
+#include "engine/physics/force_kernel.hpp"
+
+#include <cmath>
+
+#if defined(__x86_64__) || defined(__i386__)
+#include <immintrin.h>
+#define DHPD_HAS_AVX2_BUILD 1
+#endif
+
+namespace dhpd::kernel {
+namespace {
+
+/// One entry in plain arithmetic: the same operations as a lane of the AVX2 build.
+template <int Dim, bool Fracture>
+inline int entry(std::int64_t i, std::int64_t k, const double yi[Dim], const Fields& x,
+                 const RowArrays& r, const Breaking& w, double lane[Dim]) {
+  const std::int32_t j = r.other[k];
+  double dx[Dim], l2 = 0.0;
+  for (int a = 0; a < Dim; ++a) dx[a] = x.y[a][j] - yi[a], l2 += dx[a] * dx[a];
+  int broken = 0;
+  if constexpr (Fracture)
+    if (l2 >= r.break_at[k]) [[unlikely]]
+      broken = break_entry(*w.il, static_cast<std::size_t>(i), k, l2, *w.in, w.intact);
+  const double s = r.coefficient[k] * (r.inv_length[k] - 1.0 / std::sqrt(l2));
+  for (int a = 0; a < Dim; ++a) lane[a] += s * dx[a];
+  return broken;
+}
+
+template <int Dim>
+inline void write_force(std::int64_t i, const Fields& x, const double lanes[Dim][4]) {
+  for (int a = 0; a < Dim; ++a)
+    x.f[a][i] = (lanes[a][0] + lanes[a][1]) + (lanes[a][2] + lanes[a][3]);
+}
+
+/// The slow path of a block of four entries from k: break_entry for each lane set in `hit`.
+/// Kept out of line so the vector loop keeps its registers.
+[[gnu::noinline, gnu::cold]] std::int64_t break_block(std::int64_t i, std::int64_t k, int hit,
+                                                      const double l2[4], const Breaking& w) {
+  std::int64_t broken = 0;
+  for (int t = 0; t < 4; ++t)
+    if (hit & (1 << t))
+      broken += break_entry(*w.il, static_cast<std::size_t>(i), k + t, l2[t], *w.in, w.intact);
+  return broken;
+}
+
+/// Entries [from, end) of row i in plain arithmetic, entry k into lane (k − row start) mod 4.
+template <int Dim, bool Fracture>
+std::int64_t plain_entries(std::int64_t i, std::int64_t from, const Fields& x, const RowArrays& r,
+                           const Breaking& w, double lanes[Dim][4]) {
+  double yi[Dim];
+  for (int a = 0; a < Dim; ++a) yi[a] = x.y[a][i];
+  std::int64_t broken = 0;
+  const std::int64_t begin = r.start[i], end = begin + r.count[i];
+  for (std::int64_t k = from; k < end; ++k) {
+    const auto t = static_cast<int>((k - begin) & 3);
+    double lane[Dim];
+    for (int a = 0; a < Dim; ++a) lane[a] = lanes[a][t];
+    broken += entry<Dim, Fracture>(i, k, yi, x, r, w, lane);
+    for (int a = 0; a < Dim; ++a) lanes[a][t] = lane[a];
+  }
+  return broken;
+}
+
+template <int Dim, bool Fracture>
+std::int64_t row_plain(std::int64_t i, const Fields& x, const RowArrays& r, const Breaking& w) {
+  double lanes[Dim][4] = {};
+  const auto broken = plain_entries<Dim, Fracture>(i, r.start[i], x, r, w, lanes);
+  write_force<Dim>(i, x, lanes);
+  return broken;
+}
+
+#ifdef DHPD_HAS_AVX2_BUILD
+#pragma GCC push_options
+#pragma GCC target("avx2")
+template <int Dim, bool Fracture>
+std::int64_t row_avx2(std::int64_t i, const Fields& x, const RowArrays& r, const Breaking& w) {
+  __m256d yi[Dim], acc[Dim];
+  for (int a = 0; a < Dim; ++a) yi[a] = _mm256_set1_pd(x.y[a][i]), acc[a] = _mm256_setzero_pd();
+  const __m256d one = _mm256_set1_pd(1.0);
+  std::int64_t broken = 0;
+  const std::int64_t begin = r.start[i], end = begin + r.count[i];
+  const std::int64_t blocks_end = begin + ((end - begin) & ~std::int64_t{3});
+  for (std::int64_t k = begin; k < blocks_end; k += 4) {
+    const std::int32_t* j = r.other + k;
+    __m256d dx[Dim], l2 = _mm256_setzero_pd();
+    for (int a = 0; a < Dim; ++a) {
+      // Four scalar loads: faster than vgatherdpd on the AMD cores measured.
+      const double* ya = x.y[a];
+      dx[a] = _mm256_sub_pd(_mm256_set_pd(ya[j[3]], ya[j[2]], ya[j[1]], ya[j[0]]), yi[a]);
+      l2 = _mm256_add_pd(l2, _mm256_mul_pd(dx[a], dx[a]));
+    }
+    if constexpr (Fracture) {
+      const __m256d limit = _mm256_cvtps_pd(_mm_loadu_ps(r.break_at + k));
+      const int hit = _mm256_movemask_pd(_mm256_cmp_pd(l2, limit, _CMP_GE_OQ));
+      if (hit) [[unlikely]] {
+        alignas(32) double l2s[4];
+        _mm256_store_pd(l2s, l2);
+        broken += break_block(i, k, hit, l2s, w);
+      }
+    }
+    const __m256d q = _mm256_div_pd(one, _mm256_sqrt_pd(l2));
+    const __m256d s = _mm256_mul_pd(_mm256_loadu_pd(r.coefficient + k),
+                                    _mm256_sub_pd(_mm256_loadu_pd(r.inv_length + k), q));
+    for (int a = 0; a < Dim; ++a) acc[a] = _mm256_add_pd(acc[a], _mm256_mul_pd(s, dx[a]));
+  }
+  alignas(32) double lanes[Dim][4];
+  for (int a = 0; a < Dim; ++a) _mm256_store_pd(lanes[a], acc[a]);
+  broken += plain_entries<Dim, Fracture>(i, blocks_end, x, r, w, lanes);
+  write_force<Dim>(i, x, lanes);
+  return broken;
+}
+#pragma GCC pop_options
+#endif
+
+}  // namespace
+
+bool avx2_available() {
+#ifdef DHPD_HAS_AVX2_BUILD
+  return __builtin_cpu_supports("avx2");
+#else
+  return false;
+#endif
+}
+
+template <int Dim, bool Fracture>
+RowKernel row_kernel(Build build) {
+#ifdef DHPD_HAS_AVX2_BUILD
+  if (build == Build::Avx2 && avx2_available()) return row_avx2<Dim, Fracture>;
+#endif
+  (void)build;
+  return row_plain<Dim, Fracture>;
+}
+
+template RowKernel row_kernel<1, false>(Build);
+template RowKernel row_kernel<1, true>(Build);
+template RowKernel row_kernel<2, false>(Build);
+template RowKernel row_kernel<2, true>(Build);
+template RowKernel row_kernel<3, false>(Build);
+template RowKernel row_kernel<3, true>(Build);
+
+}  // namespace dhpd::kernel

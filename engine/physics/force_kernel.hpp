@@ -1,0 +1,61 @@
+// The force kernel of one interaction row (docs/theory.md §4, §18): f_i = Σ_k c_k s_k n_k with
+// the fused break test. Two builds of the same arithmetic: plain C++ and AVX2 (chosen once per
+// call from the CPU). Both sum a row in four lanes (entry t of a row goes to lane t mod 4, lanes
+// added as (0 + 1) + (2 + 3)) with the same IEEE operations in the same order and no fused
+// multiply-add, so they give the same bits on every machine and for every thread count.
+#pragma once
+#include <cstdint>
+
+#include "engine/physics/interactions.hpp"
+
+namespace dhpd::kernel {
+
+/// Views of the row arrays the kernel streams (taken once per call, never per bond).
+struct RowArrays {
+  const std::int64_t* start;
+  const std::int32_t* count;
+  const std::int32_t* other;
+  const double *inv_length, *coefficient;
+  const float* break_at;
+
+  explicit RowArrays(const InteractionList& il)
+      : start(il.rows.start.data()),
+        count(il.rows.count.data()),
+        other(il.other.data()),
+        inv_length(il.inv_length.data()),
+        coefficient(il.coefficient.data()),
+        break_at(il.break_at.data()) {}
+};
+
+/// What the fused break test needs on its slow path (unused by the elastic kernel).
+struct Breaking {
+  InteractionList* il = nullptr;
+  const RowInputs* in = nullptr;
+  std::uint8_t* intact = nullptr;
+};
+
+/// Positions read and force densities written (the first Dim axes).
+struct Fields {
+  const double* y[3];
+  double* f[3];
+};
+
+/// Force density of row i; with Fracture, entries whose squared length reached their break_at go
+/// through break_entry first, on the same squared length. Returns the own bonds broken.
+using RowKernel = std::int64_t (*)(std::int64_t i, const Fields& x, const RowArrays& r,
+                                   const Breaking& w);
+
+enum class Build { Plain, Avx2 };
+
+/// Whether this CPU runs the AVX2 build.
+bool avx2_available();
+/// The fastest build this CPU runs (AVX2 when available).
+inline Build best_build() {
+  return avx2_available() ? Build::Avx2 : Build::Plain;
+}
+
+/// The row kernel of a build (Avx2 on a CPU without it falls back to Plain).
+template <int Dim, bool Fracture>
+RowKernel row_kernel(Build build);
+
+}  // namespace dhpd::kernel
