@@ -94,11 +94,28 @@ TEST(Summary, WritesValidJsonWithAllKeys) {
   dhpd::io::write_summary(path.string(), s);
 
   const auto j = nlohmann::json::parse(read_text(path));
-  for (const char* key :
-       {"scene", "scene_file", "status", "message", "wall_seconds", "steps", "end_time", "dt",
-        "critical_dt", "particles_start", "particles_end", "bonds", "broken_bonds",
-        "bond_updates_per_second", "particle_steps_per_second", "threads", "active_effects",
-        "seconds_per_phase", "materials"}) {
+  for (const char* key : {"scene",
+                          "scene_file",
+                          "status",
+                          "message",
+                          "wall_seconds",
+                          "steps",
+                          "end_time",
+                          "dt",
+                          "critical_dt",
+                          "particles_start",
+                          "particles_end",
+                          "bonds",
+                          "broken_bonds",
+                          "bond_updates_per_second",
+                          "particle_steps_per_second",
+                          "threads",
+                          "active_effects",
+                          "seconds_per_phase",
+                          "materials",
+                          "allocated_bytes",
+                          "bytes_per_particle",
+                          "bytes_per_directed_bond"}) {
     EXPECT_TRUE(j.contains(key)) << key;
   }
   EXPECT_EQ(j["scene"], s.scene_name);

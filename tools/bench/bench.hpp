@@ -1,20 +1,25 @@
-// `dhpd bench`: force-kernel and whole-step throughput on a uniform 3D lattice.
+// `dhpd bench`: whole-step throughput in ns per directed bond per core (one bond i→j of a full
+// neighbour list; an unordered pair is two), with and without fracture, on the Kalthoff–Winkler
+// plate of the LAMMPS peri/pmb deck (lammps_deck.cpp), side by side with LAMMPS when `lmp` is
+// installed; or on a cubic lattice (--cells), e.g. for memory per particle at 1 M particles.
 #pragma once
 #include <iosfwd>
+#include <string>
 #include <vector>
 
 namespace dhpd {
 
 struct BenchOptions {
-  int cells = 60;   ///< lattice cells per side (60³ = 216,000 particles)
-  int steps = 10;   ///< steps per timed sample
+  int cells = 0;    ///< > 0: a cubic lattice of cells³ particles instead of the plate
+  int steps = 100;  ///< steps per timed sample
   int repeats = 5;  ///< samples per configuration; the median is reported
   std::vector<int> threads{1, 2};
   double horizon_factor = 3.015;
-  bool refinement = false;  ///< time refinement events instead (bench_refinement.cpp)
+  bool refinement = false;      ///< time refinement events instead (bench_refinement.cpp)
+  std::string lammps = "auto";  ///< auto (when lmp is on PATH), off, or the lmp command
 };
 
-/// Runs the benchmark and prints a table (ns per interaction, particle-steps/s, ratios).
+/// Runs the benchmark and prints a table (ns per directed bond per core, bytes per particle).
 void run_bench(const BenchOptions& options, std::ostream& out);
 
 /// Times one refinement event on the same refined set in bodies of N, 4N and 16N particles.

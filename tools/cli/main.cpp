@@ -103,16 +103,21 @@ int main(int argc, char** argv) {
       "fields", "the fields a frame can hold: unit, whether always written, meaning");
 
   dhpd::BenchOptions bench_opt;
-  auto* bench = app.add_subcommand("bench", "force-kernel and step throughput on a 3D lattice");
+  auto* bench = app.add_subcommand(
+      "bench",
+      "whole-step ns per directed bond per core on the Kalthoff-Winkler plate, beside LAMMPS");
   bench
       ->add_option("--cells", bench_opt.cells,
-                   "lattice cells per side (default 60: 216k particles)")
+                   "a cubic lattice of cells^3 particles instead of the plate (100: 1 M)")
       ->check(CLI::Range(4, 400));
-  bench->add_option("--steps", bench_opt.steps, "steps per sample")->check(CLI::Range(1, 100000));
-  bench->add_option("--repeats", bench_opt.repeats, "samples (median reported)")
+  bench->add_option("--steps", bench_opt.steps, "steps per sample (default 100)")
+      ->check(CLI::Range(1, 100000));
+  bench->add_option("--repeats", bench_opt.repeats, "samples (median reported, default 5)")
       ->check(CLI::Range(1, 100));
-  bench->add_option("--threads", bench_opt.threads, "thread counts to compare")
+  bench->add_option("--threads", bench_opt.threads, "thread counts (LAMMPS: MPI ranks) to compare")
       ->check(CLI::Range(1, 1024));
+  bench->add_option("--lammps", bench_opt.lammps,
+                    "auto: run LAMMPS (lmp) beside dhpd when installed; off; or the lmp command");
   bench->add_flag("--refinement", bench_opt.refinement,
                   "time refinement events on the same refined set in bodies of N, 4N, 16N");
 

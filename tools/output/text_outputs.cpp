@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 #include <unistd.h>
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 
@@ -184,6 +185,14 @@ void write_summary(const std::string& path, const Summary& s) {
   j["commit"] = s.commit;
   j["command_line"] = s.command_line;
   j["peak_memory_mb"] = s.peak_memory_mb;
+  const auto& a = s.allocated;
+  const double n = static_cast<double>(std::max<std::int64_t>(s.particles_end, 1));
+  j["allocated_bytes"] = {{"total", a.total}, {"particle_fields", a.particles},
+                          {"bonds", a.bonds}, {"dual_lists", a.dual},
+                          {"rows", a.rows},   {"other", a.other}};
+  j["bytes_per_particle"] = static_cast<double>(a.total) / n;
+  j["bytes_per_directed_bond"] =
+      static_cast<double>(a.total) / static_cast<double>(std::max<std::int64_t>(s.bonds, 1));
   j["warnings"] = s.warnings;
   j["active_effects"] = s.active_effects;
   nlohmann::ordered_json phases = nlohmann::ordered_json::object();

@@ -100,7 +100,11 @@ struct Summary {
   int threads = 1;
   /// Provenance: dhpd's version, the source tree's commit, the command line that ran.
   std::string version, commit, command_line;
-  double peak_memory_mb = 0;          ///< this process's own peak resident memory (VmHWM)
+  double peak_memory_mb = 0;  ///< this process's own peak resident memory (VmHWM)
+  /// The simulation's arrays at the end (capacities): total and by part, in bytes.
+  struct Allocated {
+    std::int64_t total = 0, particles = 0, bonds = 0, dual = 0, rows = 0, other = 0;
+  } allocated;
   std::vector<std::string> warnings;  ///< legal but probably unintended settings (log lines too)
   std::vector<std::string> active_effects;
   std::vector<PhaseSeconds> phases;

@@ -53,6 +53,10 @@ io::Summary make_summary(const scene::Scene& s, const Simulation& sim, double wa
   sum.commit = dhpd_commit();
   sum.command_line = run::shell_command(opt.command_words);
   sum.peak_memory_mb = run::peak_memory_mb();
+  const auto m = sim.memory_use();
+  sum.allocated = {static_cast<std::int64_t>(m.total()), static_cast<std::int64_t>(m.particles),
+                   static_cast<std::int64_t>(m.bonds),   static_cast<std::int64_t>(m.dual),
+                   static_cast<std::int64_t>(m.rows),    static_cast<std::int64_t>(m.other)};
   sum.scene_name = s.name;
   sum.scene_file = s.file;
   sum.wall_seconds = wall;
@@ -431,6 +435,13 @@ void check_scene(const scene::Scene& s, std::ostream& printed, bool build,
   for (const auto& w : scene::scene_warnings(s, *sim, scene::planned_steps(s, sim->dt())))
     out << "warning: " << w << "\n";
   out << scene::derived_yaml(s, *sim);
+  const auto m = sim->memory_use();
+  const double n = static_cast<double>(sim->particles().size());
+  const double bonds = std::max(1.0, static_cast<double>(sim->bonds().size()));
+  out << fmt::format(
+      "allocated: {{bytes: {}, per_particle: {:.0f}, per_directed_bond: {:.1f}, bonds: {}, "
+      "rows: {}, dual_lists: {}, particle_fields: {}, other: {}}}\n",
+      m.total(), m.total() / n, m.total() / bonds, m.bonds, m.rows, m.dual, m.particles, m.other);
   printed << out.str();
 }
 
