@@ -47,11 +47,13 @@ measure:
     - {name: notch, at: [0.008, 0.004], direction: [1, 0]}
 )";
 
-/// summary.json keys that hold wall-clock measurements (they differ between any two runs).
+/// summary.json keys that measure the process rather than the physics: wall clock, and memory
+/// (a restarted process's arrays and scratch have other capacities); they differ between runs.
 inline bool wall_clock_key(const std::string& key) {
   return key == "wall_seconds" || key == "bond_updates_per_second" ||
          key == "particle_steps_per_second" || key == "seconds_per_phase" ||
-         key == "command_line" || key == "peak_memory_mb";
+         key == "command_line" || key == "peak_memory_mb" || key == "allocated_bytes" ||
+         key == "bytes_per_particle" || key == "bytes_per_directed_bond";
 }
 
 /// refinement.csv without its wall-clock columns `seconds` (14th) and `resort_seconds` (16th).

@@ -19,7 +19,7 @@ from run_folder import CSV_FILES, WALL_COLUMNS, frame_files, load_summary, read_
 # Keys that measure the machine or name where the files were, not what was computed.
 WALL_KEYS = {"wall_seconds", "seconds_per_phase", "particle_steps_per_second",
              "bond_updates_per_second", "estimated_memory_mb", "peak_memory_mb", "output",
-             "scene_file"}
+             "scene_file", "allocated_bytes", "bytes_per_particle", "bytes_per_directed_bond"}
 
 
 def csv_rows(path):
