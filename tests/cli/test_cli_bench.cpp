@@ -65,6 +65,12 @@ TEST_F(CliTest, CheckAndSummaryReportTheAllocatedBytes) {
   ASSERT_TRUE(std::regex_search(
       c.out, m, std::regex(R"(allocated: \{bytes: (\d+), per_particle: (\d+), .*bonds: (\d+), )")))
       << c.out;
+  std::smatch dt;
+  ASSERT_TRUE(std::regex_search(
+      c.out, dt,
+      std::regex(R"(stable_step: \{bound: ([0-9.e+-]+), power_iteration: ([0-9.e+-]+),)")))
+      << c.out;
+  EXPECT_GT(std::stod(dt[2]), std::stod(dt[1]));  // the bound is conservative
   const auto dir = run_plate("out", {});
   const auto j = read_json(dir / "summary.json");
   const auto& a = j.at("allocated_bytes");

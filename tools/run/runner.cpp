@@ -1,5 +1,6 @@
 // The run loop: step, diagnose, write history and frames, summarise; stop cleanly when unstable.
 #include "tools/run/runner.hpp"
+#include "engine/physics/stable_step.hpp"
 
 #include <fmt/format.h>
 #include <omp.h>
@@ -442,6 +443,11 @@ void check_scene(const scene::Scene& s, std::ostream& printed, bool build,
       "allocated: {{bytes: {}, per_particle: {:.0f}, per_directed_bond: {:.1f}, bonds: {}, "
       "rows: {}, dual_lists: {}, particle_fields: {}, other: {}}}\n",
       m.total(), m.total() / n, m.total() / bonds, m.bonds, m.rows, m.dual, m.particles, m.other);
+  // The tight step of the linearised stiffness, shown beside the bound the run uses (issue 15).
+  const auto power = largest_stable_step(sim->interactions(), sim->particles());
+  out << fmt::format(
+      "stable_step: {{bound: {:.6g}, power_iteration: {:.6g}, ratio: {:.3f}, iterations: {}}}\n",
+      sim->critical_dt(), power.dt, power.dt / sim->critical_dt(), power.iterations);
   printed << out.str();
 }
 

@@ -1,0 +1,25 @@
+// The largest stable step of the linearised bond forces by power iteration (docs/theory.md §9):
+// a tight estimate beside the per-particle bound of critical_time_step.
+#pragma once
+#include <cstdint>
+
+#include "engine/discretization/particles.hpp"
+#include "engine/physics/interactions.hpp"
+
+namespace dhpd {
+
+struct PowerEstimate {
+  double omega2 = 0.0;  ///< the largest ω² found (a Rayleigh quotient: at most the true one)
+  double dt = 0.0;      ///< 2 / ω: central differences are stable below it
+  int iterations = 0;
+  double last_change = 0.0;  ///< relative change of ω² in the last iteration
+};
+
+/// Power iteration on M⁻¹K, K the stiffness of the rows linearised about the reference
+/// configuration: (K u)_i = −Σ_k K_k/|ξ_k| (e_k · (u_o − u_i)) e_k, e_k = ξ_k/|ξ_k|. Starts
+/// from ±1 per particle and axis (a hash of its slot: the same for any thread count),
+/// stops after `max_iterations` or when ω² changes by less than `tolerance`.
+PowerEstimate largest_stable_step(const InteractionList& il, const ParticleStore& p,
+                                  int max_iterations = 200, double tolerance = 1e-5);
+
+}  // namespace dhpd
