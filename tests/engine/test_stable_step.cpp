@@ -8,6 +8,7 @@
 #include "engine/base/errors.hpp"
 #include "engine/physics/stable_step.hpp"
 #include "tests/support/engine.hpp"
+#include "tests/support/setups.hpp"
 
 namespace dhpd {
 namespace {
@@ -56,26 +57,8 @@ TEST_P(PowerStableStep, PowerIterationFindsTheLargestEigenvalue) {
 
 INSTANTIATE_TEST_SUITE_P(Dimensions, PowerStableStep, ::testing::Values(1, 2, 3));
 
-/// A plate (2× finer middle part) ringing from a displacement bump, at a fixed step.
-SimulationSetup ringing_plate() {
-  SimulationSetup s;
-  s.section = {2, PlaneMode::Stress, 1e-3, 1};
-  s.materials = {{72e9, 2440, 0}};
-  using geometry::Box;
-  s.points = geometry::fill_lattice({{Box{{0, 0, 0}, {0.03, 0.015, 0}}, 1e-3, 0},
-                                     {Box{{0.01, 0, 0}, {0.02, 0.015, 0}}, 0.5e-3, 0}},
-                                    2);
-  InitialCondition ic;
-  ic.region = Box{{0, 0, 0}, {0.03, 0.015, 0}};
-  ic.displacement = Vec3{2e-6, -1e-6, 0};
-  ic.gaussian_width = 0.01;
-  ic.gaussian_center = {0.015, 0.0075, 0};
-  s.initial_conditions = {ic};
-  return s;
-}
-
 bool stays_stable(double dt, int steps) {
-  auto s = ringing_plate();
+  auto s = test::ringing_plate(true);
   s.fixed_dt = dt;
   Simulation sim(s);
   try {
@@ -88,7 +71,7 @@ bool stays_stable(double dt, int steps) {
 }
 
 TEST(PowerStableStepRun, RunsBelowTheEstimateStayStableAndAboveItBlowUp) {
-  const Simulation sim(ringing_plate());
+  const Simulation sim(test::ringing_plate(true));
   const auto power = largest_stable_step(sim.interactions(), sim.particles());
   std::printf("graded plate: power dt / per-particle bound %.3f (%d iterations)\n",
               power.dt / sim.critical_dt(), power.iterations);

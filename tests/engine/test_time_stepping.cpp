@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "tests/support/engine.hpp"
+#include "tests/support/setups.hpp"
 
 namespace dhpd {
 namespace {
@@ -10,19 +11,7 @@ namespace {
 /// Largest |E(t) − E(0)| / E(0) over `steps` steps (sampled every 50) of a plate released from a
 /// smooth displacement bump; `two_parts` puts a 2× finer part in the middle (varying horizons).
 double energy_error(double safety, bool two_parts, int steps) {
-  SimulationSetup s;
-  s.section = {2, PlaneMode::Stress, 1e-3, 1};
-  s.materials = {{72e9, 2440, 0}};
-  using geometry::Box;
-  std::vector<geometry::LatticePart> parts = {{Box{{0, 0, 0}, {0.04, 0.02, 0}}, 1e-3, 0}};
-  if (two_parts) parts.push_back({Box{{0.015, 0, 0}, {0.025, 0.02, 0}}, 0.5e-3, 0});
-  s.points = geometry::fill_lattice(parts, 2);
-  InitialCondition ic;
-  ic.region = Box{{0, 0, 0}, {0.04, 0.02, 0}};
-  ic.displacement = Vec3{2e-6, -1e-6, 0};
-  ic.gaussian_width = 0.01;
-  ic.gaussian_center = {0.02, 0.01, 0};
-  s.initial_conditions = {ic};
+  auto s = test::ringing_plate(two_parts);
   s.safety = safety;
   Simulation sim(s);
   const auto e0 = sim.energies();

@@ -1,6 +1,6 @@
 // Simulation setups shared by the engine tests and those above them (test-only code): glass
 // plates, a pre-cracked pulled plate, a lifted 3D block, a pulsed plate, a two-part fracturing
-// plate.
+// plate, a ringing plate.
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -101,6 +101,24 @@ inline std::vector<std::int32_t> all_particles(const Simulation& sim) {
   std::vector<std::int32_t> all(sim.particles().size());
   for (std::size_t i = 0; i < all.size(); ++i) all[i] = static_cast<std::int32_t>(i);
   return all;
+}
+
+/// A 40 × 20 mm glass plate (no G0) released from a smooth displacement bump; `two_parts` puts a
+/// 2× finer part in the middle (varying horizons, dual-horizon).
+inline SimulationSetup ringing_plate(bool two_parts) {
+  SimulationSetup s;
+  s.section = {2, PlaneMode::Stress, 1e-3, 1};
+  s.materials = {{72e9, 2440, 0}};
+  std::vector<geometry::LatticePart> parts = {{Box{{0, 0, 0}, {0.04, 0.02, 0}}, 1e-3, 0}};
+  if (two_parts) parts.push_back({Box{{0.015, 0, 0}, {0.025, 0.02, 0}}, 0.5e-3, 0});
+  s.points = geometry::fill_lattice(parts, 2);
+  InitialCondition ic;
+  ic.region = Box{{0, 0, 0}, {0.04, 0.02, 0}};
+  ic.displacement = Vec3{2e-6, -1e-6, 0};
+  ic.gaussian_width = 0.01;
+  ic.gaussian_center = {0.02, 0.01, 0};
+  s.initial_conditions = {ic};
+  return s;
 }
 
 }  // namespace dhpd::test
