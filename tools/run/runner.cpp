@@ -1,6 +1,5 @@
 // The run loop: step, diagnose, write history and frames, summarise; stop cleanly when unstable.
 #include "tools/run/runner.hpp"
-#include "engine/physics/stable_step.hpp"
 
 #include <fmt/format.h>
 #include <omp.h>
@@ -396,59 +395,6 @@ void run_scene(const scene::Scene& s, const RunOptions& opt) {
     throw ResourceLimit(message);
   }
   finish("completed", ctx.unsaved);
-}
-
-void check_scene(const scene::Scene& s, std::ostream& printed, bool build,
-                 std::optional<double> max_memory_mb) {
-  std::ostringstream out;  // printed only when the whole check passes: an error prints nothing else
-  const auto estimate = scene::estimate_resources(s);
-  const double budget = scene::memory_budget_bytes(max_memory_mb);
-  out << "scene '" << s.name << "' (" << s.file << ") is valid\n";
-  out << scene::estimate_yaml(estimate, budget);
-  if (estimate.bytes > budget)
-    out << fmt::format(
-        "warning: about {:.3g} GB needed, {:.3g} GB available: `dhpd run` refuses "
-        "it\n",
-        estimate.bytes / 1e9, budget / 1e9);
-  else if (estimate.bytes > 0.5 * budget)
-    out << fmt::format(
-        "warning: about {:.3g} GB needed, more than half of the {:.3g} GB "
-        "available\n",
-        estimate.bytes / 1e9, budget / 1e9);
-  if (estimate.bytes_worst > budget && estimate.particles_worst > estimate.particles)
-    out << fmt::format(
-        "warning: refinement could reach {:.3g} GB (every particle split down to "
-        "max_level); the run stops cleanly before an event that would not fit\n",
-        estimate.bytes_worst / 1e9);
-  // A small scene is built anyway (about 0.5 s per million bonds here), so `check` finds every
-  // error `run` would (regions that select nothing, a fixed step above the stable one).
-  constexpr double kBuildWithoutAskingBonds = 1e6;
-  if (!build && estimate.bonds > kBuildWithoutAskingBonds) {
-    out << fmt::format(
-        "built: no (about {:.3g} bonds; `dhpd check --build` builds the body and "
-        "checks its regions, stable step and derived constants)\n",
-        estimate.bonds);
-    printed << out.str();
-    return;
-  }
-  scene::refuse_if_too_big(s, estimate, budget, max_memory_mb.has_value());
-  auto sim = scene::build_simulation(s);
-  for (const auto& w : scene::scene_warnings(s, *sim, scene::planned_steps(s, sim->dt())))
-    out << "warning: " << w << "\n";
-  out << scene::derived_yaml(s, *sim);
-  const auto m = sim->memory_use();
-  const double n = static_cast<double>(sim->particles().size());
-  const double bonds = std::max(1.0, static_cast<double>(sim->bonds().size()));
-  out << fmt::format(
-      "allocated: {{bytes: {}, per_particle: {:.0f}, per_directed_bond: {:.1f}, bonds: {}, "
-      "rows: {}, dual_lists: {}, particle_fields: {}, other: {}}}\n",
-      m.total(), m.total() / n, m.total() / bonds, m.bonds, m.rows, m.dual, m.particles, m.other);
-  // The tight step of the linearised stiffness, shown beside the bound the run uses (issue 15).
-  const auto power = largest_stable_step(sim->interactions(), sim->particles());
-  out << fmt::format(
-      "stable_step: {{bound: {:.6g}, power_iteration: {:.6g}, ratio: {:.3f}, iterations: {}}}\n",
-      sim->critical_dt(), power.dt, power.dt / sim->critical_dt(), power.iterations);
-  printed << out.str();
 }
 
 }  // namespace dhpd
