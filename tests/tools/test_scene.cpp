@@ -88,6 +88,7 @@ TEST(Scene, DefaultsAreFilledIn) {
   EXPECT_FALSE(s.output.every.has_value());
   EXPECT_EQ(s.output.directory, "out");
   EXPECT_EQ(s.output.history_every, 10);
+  EXPECT_EQ(s.output.compression, "lz4");
 }
 
 TEST(SceneOverrides, ReplaceListItemValues) {

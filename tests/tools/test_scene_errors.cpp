@@ -286,6 +286,8 @@ const std::vector<BadScene> kBadScenes = {
      "bad.yaml:9: output.fields.1: field 'bond_count' is listed twice"},
     {"DefaultFieldListed", plus("output: {fields: [damage]}"),
      "bad.yaml:8: output.fields.0: field 'damage' is always written"},
+    {"UnknownCompression", plus("output: {compression: gzip}"),
+     "bad.yaml:8: output.compression: unknown compression 'gzip'"},
     {"HistoryEveryZero", plus("output: {history_every: 0}"),
      "bad.yaml:8: output.history_every: history_every must be an integer > 0, got 0"},
     {"VelocityAxisZIn2D",

@@ -156,7 +156,7 @@ vtkSmartPointer<vtkUnstructuredGrid> make_grid(const std::vector<double>& points
   return grid;
 }
 
-void write_vtu(vtkUnstructuredGrid* grid, const fs::path& final_path) {
+void write_vtu(vtkUnstructuredGrid* grid, const fs::path& final_path, Compression compression) {
   const fs::path tmp = fs::path(final_path).concat(".tmp");
   auto writer = vtkSmartPointer<vtkXMLUnstructuredGridWriter>::New();
   writer->SetFileName(tmp.c_str());
@@ -164,8 +164,19 @@ void write_vtu(vtkUnstructuredGrid* grid, const fs::path& final_path) {
   writer->SetDataModeToAppended();
   writer->EncodeAppendedDataOff();
   writer->SetHeaderTypeToUInt64();
-  // Instantiates vtkZLibDataCompressor inside IOXML, so no direct link to VTK::IOCore is needed.
-  writer->SetCompressorTypeToZLib();
+  // The compressors are instantiated inside IOXML, so no direct link to VTK::IOCore is needed.
+  // LZ4 (the default) writes about 3x faster than zlib for frames about 35 % larger.
+  switch (compression) {
+    case Compression::lz4:
+      writer->SetCompressorTypeToLZ4();
+      break;
+    case Compression::zlib:
+      writer->SetCompressorTypeToZLib();
+      break;
+    case Compression::none:
+      writer->SetCompressorTypeToNone();
+      break;
+  }
   errno = 0;
   const bool written = writer->Write() == 1 && writer->GetErrorCode() == vtkErrorCode::NoError;
   if (!written) {
@@ -185,8 +196,11 @@ void write_vtu(vtkUnstructuredGrid* grid, const fs::path& final_path) {
 }  // namespace
 
 FrameSeries::FrameSeries(std::string directory, std::string name,
-                         std::vector<std::string> materials)
-    : directory_(std::move(directory)), name_(std::move(name)), materials_(std::move(materials)) {
+                         std::vector<std::string> materials, Compression compression)
+    : directory_(std::move(directory)),
+      name_(std::move(name)),
+      materials_(std::move(materials)),
+      compression_(compression) {
   // VTK's own error dump would bury the one message the run gives (IoError, with the reason).
   vtkObject::GlobalWarningDisplayOff();
 }
@@ -203,7 +217,7 @@ void FrameSeries::write(double time, std::int64_t step, const std::vector<double
     for (const auto& m : materials_) names->InsertNextValue(m);
     grid->GetFieldData()->AddArray(names);
   }
-  write_vtu(grid, fs::path(directory_) / file);
+  write_vtu(grid, fs::path(directory_) / file, compression_);
   entries_.emplace_back(time, file);
   write_pvd();
 }

@@ -1,6 +1,6 @@
-// VTK XML output: one .vtu per frame (binary, zlib-compressed, double-precision points, one vertex
-// cell per particle) and a .pvd collection that is rewritten atomically after every frame.
-// VTK headers stay inside vtk_writer.cpp. Frames are read back only by the tests
+// VTK XML output: one .vtu per frame (binary, LZ4-, zlib- or un-compressed, double-precision
+// points, one vertex cell per particle) and a .pvd collection that is rewritten atomically after
+// every frame. VTK headers stay inside vtk_writer.cpp. Frames are read back only by the tests
 // (tests/support/vtk_read.hpp).
 #pragma once
 #include <cstdint>
@@ -17,12 +17,16 @@ struct PointField {
   std::variant<std::vector<double>, std::vector<std::int32_t>> values;
 };
 
+/// How the binary arrays of a frame are compressed; the decoded content is the same for each.
+enum class Compression { lz4, zlib, none };
+
 /// Writes frames `<directory>/<name>_<k>.vtu` and keeps `<directory>/<name>.pvd` valid after each.
 class FrameSeries {
  public:
   /// `materials`: the scene's material names, in index order; every frame carries them as field
   /// data `material_names` (the `material` point array indexes it).
-  FrameSeries(std::string directory, std::string name, std::vector<std::string> materials = {});
+  FrameSeries(std::string directory, std::string name, std::vector<std::string> materials = {},
+              Compression compression = Compression::lz4);
   /// `points` holds 3 doubles per particle. Writes to a temporary file, then renames.
   void write(double time, std::int64_t step, const std::vector<double>& points,
              const std::vector<PointField>& fields);
@@ -37,6 +41,7 @@ class FrameSeries {
   void write_pvd() const;
   std::string directory_, name_;
   std::vector<std::string> materials_;
+  Compression compression_;
   std::vector<std::pair<double, std::string>> entries_;  ///< (time, file name)
 };
 

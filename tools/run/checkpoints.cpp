@@ -58,6 +58,7 @@ std::string checkpoint_scene_text(const scene::Scene& scene) {
   s.output.directory.clear();
   s.output.checkpoint_every.reset();
   s.output.checkpoint_minutes = 0.0;  // when to checkpoint changes no number of the run
+  s.output.compression = "lz4";       // nor how frames are compressed
   return scene::resolved_yaml(s);
 }
 

@@ -245,7 +245,10 @@ RunContext open_outputs(const scene::Scene& s, Simulation& sim, const fs::path& 
   std::vector<std::string> materials;
   for (const auto& m : s.materials) materials.push_back(m.name);
   io::write_text_atomically((dir / "units.json").string(), io::units_json());
-  RunContext ctx{s, sim, io::FrameSeries(dir.string(), s.name, materials),
+  const auto compression = s.output.compression == "zlib"   ? io::Compression::zlib
+                           : s.output.compression == "none" ? io::Compression::none
+                                                            : io::Compression::lz4;
+  RunContext ctx{s, sim, io::FrameSeries(dir.string(), s.name, materials, compression),
                  io::HistoryWriter((dir / "history.csv").string(), resumed), output_field_names(s)};
   if (resumed) ctx.frames.resume(state.frames);
   ctx.state = &state;

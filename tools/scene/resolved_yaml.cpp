@@ -226,6 +226,7 @@ void emit_output(YAML::Emitter& out, const OutputSpec& output) {
   if (output.checkpoint_every)
     out << YAML::Key << "checkpoint_every" << YAML::Value << *output.checkpoint_every;
   out << YAML::Key << "checkpoint_minutes" << YAML::Value << number_text(output.checkpoint_minutes);
+  out << YAML::Key << "compression" << YAML::Value << output.compression;
   out << YAML::EndMap;
 }
 

@@ -106,6 +106,8 @@ struct OutputSpec {
   /// Also a checkpoint whenever this many minutes of wall time passed since the last one (a
   /// killed run loses at most that much); 0: none by time. Off when checkpoint_every is 0.
   double checkpoint_minutes = 10.0;
+  /// How frames are compressed: "lz4" (default), "zlib" or "none" (docs/outputs.md).
+  std::string compression = "lz4";
 };
 
 /// `effects.refinement` (docs/scenes.md): absent or `false` means no refiner at all.

@@ -226,7 +226,7 @@ std::vector<std::string> read_fields(const Cursor& c) {
 
 OutputSpec read_output(const Cursor& c) {
   const MapView map(c, {"directory", "every", "frames", "fields", "history_every",
-                        "checkpoint_every", "checkpoint_minutes"});
+                        "checkpoint_every", "checkpoint_minutes", "compression"});
   OutputSpec out;
   if (const auto dir = map.get("directory")) {
     out.directory = dir->string();
@@ -248,6 +248,10 @@ OutputSpec read_output(const Cursor& c) {
   }
   if (const auto minutes = map.get("checkpoint_minutes"))
     out.checkpoint_minutes = detail::non_negative_number(*minutes);
+  if (const auto compression = map.get("compression")) {
+    static const std::vector<std::string> kCompressions{"lz4", "zlib", "none"};
+    out.compression = kCompressions[compression->choice(kCompressions, "compression")];
+  }
   return out;
 }
 
