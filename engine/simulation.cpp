@@ -31,6 +31,7 @@ Simulation::Simulation(const SimulationSetup& setup) : setup_(setup), p_(setup.s
   loads_ = resolve_loads(setup_.boundary_conditions, p_);
   enforce_prescribed_velocity();
   compute_forces();
+  if (setup_.effects.fracture) compute_damage(bonds_, p_);  // then kept current by each step
   last_power_ = boundary_power();
   const auto e = energies();
   budget_.tolerance = setup_.energy_tolerance;
@@ -266,11 +267,6 @@ Simulation::MemoryUse Simulation::memory_use() const {
     m.other += v->capacity() * sizeof(double);
   m.other += touched_.capacity();
   return m;
-}
-
-void Simulation::update_damage() {
-  auto t = timers_.scope(Phase::Fracture);
-  compute_damage(bonds_, p_);
 }
 
 }  // namespace dhpd

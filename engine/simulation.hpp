@@ -104,8 +104,6 @@ class Simulation {
   /// the energy budget (step() checks the kinetic energy alone every step).
   void check_stable(const Energies& e) const;
   const EnergyBudget& energy_budget() const { return budget_; }
-  /// Recomputes p.damage (only meaningful with fracture on).
-  void update_damage();
 
   /// The edit seam (refine/ uses it; docs/design.md): begin_edit records the energy of the rows
   /// an edit may change (strain energy of `energy_rows`, kinetic energy of `moving`); the editor
@@ -147,6 +145,7 @@ class Simulation {
   };
   MemoryUse memory_use() const;
 
+  /// The particles; with fracture on, their damage is always that of the current bonds (§8).
   const ParticleStore& particles() const { return p_; }
   ParticleStore& particles() { return p_; }
   const BondList& bonds() const { return bonds_; }

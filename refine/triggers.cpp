@@ -89,8 +89,7 @@ std::vector<std::uint8_t> near_a_crack(const Simulation& sim, double horizons,
 std::vector<std::uint8_t> triggered(Simulation& sim, const Triggers& t) {
   const std::size_t n = sim.particles().size();
   std::vector<std::uint8_t> out(n, 0);
-  if (t.damage) {
-    sim.update_damage();
+  if (t.damage) {  // damage is current: the stepper refreshes it where bonds break
     for (std::size_t i = 0; i < n; ++i)
       if (sim.particles().damage[i] >= *t.damage) out[i] = 1;
   }
@@ -107,7 +106,6 @@ std::vector<std::uint8_t> triggered(Simulation& sim, const Triggers& t) {
     for (std::size_t i = 0; i < n; ++i)
       over[i] = !out[i] && s[i] >= *t.stretch * sim.critical_stretch()[i] ? 1 : 0;
     if (t.near_crack) {
-      if (!t.damage) sim.update_damage();
       over = near_a_crack(sim, *t.near_crack, std::move(over));
     }
     for (std::size_t i = 0; i < n; ++i) out[i] = out[i] || over[i];

@@ -8,6 +8,7 @@
 #include <cstring>
 
 #include "engine/checkpoint/archive.hpp"
+#include "engine/physics/bond_loops.hpp"
 
 namespace dhpd {
 
@@ -118,6 +119,8 @@ struct CheckpointAccess {
     check_consistent(s, ar);
     s.touched_.assign(s.p_.size(), 0);
     s.edit_.reset();
+    // Damage is kept current by the stepper; format-4 files may hold an older value.
+    if (s.setup_.effects.fracture) compute_damage(s.bonds_, s.p_);
   }
 
   template <class V>

@@ -25,7 +25,20 @@ void each_row(std::size_t n, const std::vector<std::int32_t>* rows, F&& f) {
   for (std::int64_t i = 0; i < count; ++i) f(i);
 }
 
-/// Every row, or only `subset` when given, with the kernel build this CPU runs.
+/// Damage of particle i (docs/theory.md §8): the weighted broken fraction of its own bonds.
+void damage_of(const BondList& bonds, ParticleStore& p, std::size_t i) {
+  double all = 0.0, intact = 0.0;
+  for (auto b = bonds.begin(i); b < bonds.end(i); ++b) {
+    const double w = bonds.weight[b] * p.volume[bonds.neighbor[b]];
+    all += w;
+    intact += bonds.intact[b] * w;
+  }
+  p.damage[i] = all > 0.0 ? 1.0 - intact / all : 0.0;
+}
+
+/// Every row, or only `subset` when given, with the kernel build this CPU runs. With Fracture, a
+/// row that broke one of its own bonds refreshes its damage at once: only row i writes i's own
+/// bonds, so this stays race-free, and damage is always current without a pass over all bonds.
 template <int Dim, bool Fracture>
 std::int64_t force_rows(const InteractionList& il, const kernel::Breaking& w, ParticleStore& p,
                         const std::vector<std::int32_t>* subset) {
@@ -34,14 +47,20 @@ std::int64_t force_rows(const InteractionList& il, const kernel::Breaking& w, Pa
       {p.force_density[0].data(), p.force_density[1].data(), p.force_density[2].data()}};
   const kernel::RowArrays r(il);
   const auto row = kernel::row_kernel<Dim, Fracture>(kernel::best_build());
+  auto force_row = [&](std::int64_t i) {
+    const std::int64_t broke = row(i, x, r, w);
+    if constexpr (Fracture)
+      if (broke) damage_of(w.in->bonds, p, static_cast<std::size_t>(i));
+    return broke;
+  };
   std::int64_t broken = 0;
   if (subset) {
-    for (const auto i : *subset) broken += row(i, x, r, w);
+    for (const auto i : *subset) broken += force_row(i);
     return broken;
   }
   const auto n = static_cast<std::int64_t>(p.size());
 #pragma omp parallel for schedule(static) reduction(+ : broken) if (n >= kParallelMinParticles)
-  for (std::int64_t i = 0; i < n; ++i) broken += row(i, x, r, w);
+  for (std::int64_t i = 0; i < n; ++i) broken += force_row(i);
   return broken;
 }
 
@@ -102,16 +121,6 @@ double strain_energy_of_rows(const BondList& bonds, const ParticleStore& p,
 }
 
 namespace {
-void damage_of(const BondList& bonds, ParticleStore& p, std::size_t i) {
-  double all = 0.0, intact = 0.0;
-  for (auto b = bonds.begin(i); b < bonds.end(i); ++b) {
-    const double w = bonds.weight[b] * p.volume[bonds.neighbor[b]];
-    all += w;
-    intact += bonds.intact[b] * w;
-  }
-  p.damage[i] = all > 0.0 ? 1.0 - intact / all : 0.0;
-}
-
 double stable_step_of(const InteractionList& il, const ParticleStore& p, std::size_t i) {
   double stiffness = 0.0;
   for (auto k = il.begin(i); k < il.end(i); ++k)

@@ -21,8 +21,10 @@ void internal_force_density(const InteractionList& il, ParticleStore& p,
 /// internal_force_density of every row with bond breaking fused in: each intact bond with
 /// s ≥ s0 of its owner (as the rows' break thresholds hold it; no_fail owners never break) is
 /// zeroed in both rows of its pair and marked broken in `bonds` before the force is summed.
-/// Returns the number of bonds broken by this call.
-/// `in` describes the same bonds and particles with the owners' constants (C, s0).
+/// Every particle that lost an own bond gets its p.damage refreshed in the same pass, so damage
+/// stays current as long as edits recompute it (Simulation does). Returns the number of bonds
+/// broken by this call. `in` describes the same bonds and particles with the owners' constants (C,
+/// s0).
 std::int64_t force_and_break(InteractionList& il, BondList& bonds, ParticleStore& p,
                              const RowInputs& in);
 

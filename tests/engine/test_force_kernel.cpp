@@ -1,7 +1,8 @@
 // The force kernel with one entry per neighbour pair and the fused break test (docs/theory.md
 // §4, §18): rows hold each neighbour once, the fused pass breaks exactly the bonds a brute-force
 // stretch test breaks, the result equals an elastic pass over rows rebuilt from the new bond
-// states, and the plain and AVX2 builds give the same bits.
+// states, the damage it refreshes equals a full pass, and the plain and AVX2 builds give the same
+// bits.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -89,8 +90,14 @@ TEST_P(ForceKernel, FusedBreakingMatchesBruteForceAndARebuild) {
     }
   ASSERT_GT(expected_broken, 0u);
   ASSERT_LT(expected_broken, bonds.size() / 2);
+  compute_damage(bonds, s.p);
   const auto broken = force_and_break(s.a.rows, bonds, s.p, inputs_of(s));
   EXPECT_EQ(static_cast<std::size_t>(broken), expected_broken);
+  // The pass refreshed the damage of exactly the rows that broke: a full pass gives the same bits.
+  auto full = s.p;
+  compute_damage(bonds, full);
+  EXPECT_EQ(0, std::memcmp(full.damage.data(), s.p.damage.data(), s.p.size() * sizeof(double)));
+  EXPECT_GT(*std::max_element(s.p.damage.begin(), s.p.damage.end()), 0.0);
   for (std::size_t i = 0; i < s.p.size(); ++i)
     for (auto b = bonds.begin(i); b < bonds.end(i); ++b) ASSERT_EQ(bonds.intact[b], expected[b]);
   // Rows rebuilt from the new bond states give the same entries and the same force bits.

@@ -223,7 +223,6 @@ TEST(RefinementChildren, DamageChangesThroughAnEventOnlyAsDocumented) {
   s.resort_fraction = 0.0;  // keep slots: children are compared with their parents by slot
   Simulation sim(s);
   for (int k = 0; k < 400 && sim.broken_bonds() < 300; ++k) sim.run_steps(10);
-  sim.update_damage();
   const auto before = sim.particles();
   std::vector<std::int32_t> parents;
   for (const auto i : all_particles(sim))

@@ -80,7 +80,6 @@ TEST(Refinement, NoIntactBondBetweenPreviouslyBrokenPairsAfterARun) {
       const auto j = old_p.id[static_cast<std::size_t>(old_b.neighbor[k])];
       broken.insert({i, j}), broken.insert({j, i});
     }
-  sim.update_damage();
   std::vector<std::uint8_t> marked(old_p.size(), 0);
   for (std::size_t i = 0; i < marked.size(); ++i) marked[i] = sim.particles().damage[i] > 0.0;
   refine::add_buffer(sim.particles(), 1.0, marked);

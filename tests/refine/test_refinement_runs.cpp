@@ -1,10 +1,12 @@
-// Refinement over whole runs (docs/theory.md §13): momentum through dozens of events, and the 3D
-// split.
+// Refinement over whole runs (docs/theory.md §13): momentum through dozens of events, damage
+// kept current through steps, events and compactions (§8), and the 3D split.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
+#include "engine/physics/bond_loops.hpp"
 #include "refine/refiner.hpp"
 #include "tests/support/setups.hpp"
 
@@ -15,9 +17,10 @@ using test::all_particles;
 using test::Box;
 using test::plate;
 
-TEST(Refinement, MomentumStaysAtRoundOffThroughAnAdaptiveRun) {
+TEST(Refinement, MomentumAndDamageThroughAnAdaptiveRun) {
   // The pre-cracked plate under equal and opposite tractions (zero net external force): dozens of
-  // events while the crack runs must keep the momentum at round-off of Σ m |v|.
+  // events while the crack runs must keep the momentum at round-off of Σ m |v|, and the damage
+  // the stepper and the events keep current must equal a full pass over the bonds, bit for bit.
   const auto s = test::pulled_cracked_plate(1e-3);
   Simulation sim(s);
   refine::Settings set;
@@ -25,11 +28,17 @@ TEST(Refinement, MomentumStaysAtRoundOffThroughAnAdaptiveRun) {
   set.check_every = 5;
   set.mapping = refine::StateMapping::Linear;
   refine::Refiner refiner(set);
-  int events = 0;
+  int events = 0, damage_checks = 0;
   double worst = 0.0;
   for (int k = 1; k <= 300; ++k) {
     sim.step();
     if (refiner.due(k) && refiner.check(sim).parents > 0) ++events;
+    if (k % 10 == 0 || k % 5 == 1) {  // before and after an event's step
+      auto full = sim.particles();
+      compute_damage(sim.bonds(), full);
+      ASSERT_EQ(full.damage, sim.particles().damage) << "step " << k;
+      ++damage_checks;
+    }
     if (k % 20 != 0) continue;
     const auto e = sim.energies();
     double scale = 0.0;
@@ -42,6 +51,8 @@ TEST(Refinement, MomentumStaysAtRoundOffThroughAnAdaptiveRun) {
               sim.particles().size(), worst);
   EXPECT_GE(events, 12);
   EXPECT_LT(worst, 1e-13);
+  EXPECT_GT(*std::max_element(sim.particles().damage.begin(), sim.particles().damage.end()), 0.3);
+  EXPECT_GT(damage_checks, 60);
 }
 
 TEST(Refinement, ThreeDimensionalSplitConservesAndRefineAllEqualsFine) {

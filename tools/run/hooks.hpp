@@ -99,7 +99,6 @@ struct CrackHook {
     return names;
   }
   void take_measurement(Simulation& sim) {
-    sim.update_damage();
     auto t = sim.timers().scope(Phase::Diagnostics);
     for (const auto& row : tracker.measure(sim.particles(), sim.steps_done(), sim.time()))
       csv.write(row);

@@ -82,7 +82,6 @@ struct RunContext {
   }
   void write_frame() {
     auto t = sim.timers().scope(Phase::Output);
-    if (sim.setup().effects.fracture) sim.update_damage();
     frames.write(sim.time(), sim.steps_done(), io::frame_points(sim),
                  io::frame_fields(sim, fields));
   }
