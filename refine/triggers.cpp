@@ -86,7 +86,7 @@ std::vector<std::uint8_t> near_a_crack(const Simulation& sim, double horizons,
   return out;
 }
 
-std::vector<std::uint8_t> triggered(Simulation& sim, const Triggers& t) {
+std::vector<std::uint8_t> triggered(const Simulation& sim, const Triggers& t) {
   const std::size_t n = sim.particles().size();
   std::vector<std::uint8_t> out(n, 0);
   if (t.damage) {  // damage is current: the stepper refreshes it where bonds break
@@ -105,9 +105,7 @@ std::vector<std::uint8_t> triggered(Simulation& sim, const Triggers& t) {
     std::vector<std::uint8_t> over(n, 0);
     for (std::size_t i = 0; i < n; ++i)
       over[i] = !out[i] && s[i] >= *t.stretch * sim.critical_stretch()[i] ? 1 : 0;
-    if (t.near_crack) {
-      over = near_a_crack(sim, *t.near_crack, std::move(over));
-    }
+    if (t.near_crack) over = near_a_crack(sim, *t.near_crack, std::move(over));
     for (std::size_t i = 0; i < n; ++i) out[i] = out[i] || over[i];
   }
   return out;

@@ -40,6 +40,6 @@ std::vector<double> critical_energy_density(const Simulation& sim);
 std::vector<double> max_bond_stretch(const Simulation& sim);
 
 /// 1 for every particle that reaches a threshold (damage is recomputed first).
-std::vector<std::uint8_t> triggered(Simulation& sim, const Triggers& t);
+std::vector<std::uint8_t> triggered(const Simulation& sim, const Triggers& t);
 
 }  // namespace dhpd::refine
