@@ -190,8 +190,6 @@ void Simulation::step() {
 Energies Simulation::energies() {
   auto t = timers_.scope(Phase::Diagnostics);
   const std::size_t n = p_.size();
-  std::vector<double> w;
-  strain_energy_density(bonds_, p_, C_, w);
   std::vector<double> kin(n);
   Energies e;
   for (int a = 0; a < 3; ++a) {
@@ -203,10 +201,9 @@ Energies Simulation::energies() {
     double v2 = 0.0;
     for (int a = 0; a < p_.dim(); ++a) v2 += p_.velocity[a][i] * p_.velocity[a][i];
     kin[i] = 0.5 * p_.density[i] * p_.volume[i] * v2;
-    w[i] *= p_.volume[i];
   }
   e.kinetic = ordered_sum(kin);
-  e.strain = ordered_sum(w);
+  e.strain = strain_energy_total(il_, p_);
   e.external_work = external_work_;
   e.verlet_correction = verlet_correction();
   return e;

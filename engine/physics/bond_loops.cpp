@@ -99,6 +99,19 @@ double energy_of(const BondList& bonds, const ParticleStore& p, const std::vecto
 
 }  // namespace
 
+double strain_energy_total(const InteractionList& il, const ParticleStore& p) {
+  const double* const y[3] = {p.position[0].data(), p.position[1].data(), p.position[2].data()};
+  const kernel::RowArrays r(il);
+  std::vector<double> rows(p.size());
+  // V_i Σ_k ¼ c_k s_k² |ξ_k| per row; entries without an intact bond (c = 0) add nothing.
+  with_dim(p.dim(), [&](auto d) {
+    const auto energy = kernel::row_energy_kernel<d()>(kernel::best_build());
+    each_row(p.size(), nullptr,
+             [&](std::int64_t i) { rows[i] = 0.25 * p.volume[i] * energy(i, y, r); });
+  });
+  return ordered_sum(rows);
+}
+
 void internal_force_density(const InteractionList& il, ParticleStore& p,
                             const std::vector<std::int32_t>* rows) {
   with_dim(p.dim(), [&](auto d) { force_rows<d(), false>(il, kernel::Breaking{}, p, rows); });

@@ -41,6 +41,13 @@ double strain_energy_of_rows(const BondList& bonds, const ParticleStore& p,
                              const std::vector<double>& micromodulus,
                              const std::vector<std::int32_t>& rows);
 
+/// The total strain energy Σ_i V_i W_i from the interaction rows (docs/theory.md §3, §18): each
+/// row entry carries the own and dual coefficients of its pair, c_k = Σ C_owner β φ V_other, so
+/// Σ_i V_i Σ_k ¼ c_k s_k² |ξ_k| counts every intact bond once with ½ C β φ V_i V_j s² |ξ|. One pass
+/// over the rows (no second walk of own bonds), summed per row then in row order: the same bits
+/// for every thread count. Equals the sum over strain_energy_density to round-off.
+double strain_energy_total(const InteractionList& il, const ParticleStore& p);
+
 /// Quadrature diagnostic (V_i + Σ_{j∈H_i} β_ij V_j) / |ball(δ_i)| (docs/theory.md §7), over all own
 /// bonds of the reference configuration (broken ones included; pre-cracked pairs have no bond).
 /// 1 for a perfect quadrature of an interior particle's horizon.

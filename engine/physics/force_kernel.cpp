@@ -62,6 +62,40 @@ std::int64_t plain_entries(std::int64_t i, std::int64_t from, const Fields& x, c
   return broken;
 }
 
+/// c s² |ξ| of entry k in plain arithmetic, s = |y| / |ξ| − 1 with 1/|ξ| stored (eq. 3.1); the
+/// AVX2 build does the same operations lane by lane.
+template <int Dim>
+inline double entry_energy(std::int64_t i, std::int64_t k, const double* const y[3],
+                           const RowArrays& r) {
+  const std::int32_t j = r.other[k];
+  double l2 = 0.0;
+  for (int a = 0; a < Dim; ++a) {
+    const double d = y[a][j] - y[a][i];
+    l2 += d * d;
+  }
+  const double c = r.coefficient[k];
+  const double s = std::sqrt(l2) * r.inv_length[k] - 1.0;
+  return c != 0.0 ? c * s * s / r.inv_length[k] : 0.0;
+}
+
+inline double sum_lanes(const double lane[4]) {
+  return (lane[0] + lane[1]) + (lane[2] + lane[3]);
+}
+
+template <int Dim>
+double energy_plain_from(std::int64_t i, std::int64_t from, const double* const y[3],
+                         const RowArrays& r, double lane[4]) {
+  const std::int64_t begin = r.start[i], end = begin + r.count[i];
+  for (std::int64_t k = from; k < end; ++k) lane[(k - begin) & 3] += entry_energy<Dim>(i, k, y, r);
+  return sum_lanes(lane);
+}
+
+template <int Dim>
+double energy_plain(std::int64_t i, const double* const y[3], const RowArrays& r) {
+  double lane[4] = {0.0, 0.0, 0.0, 0.0};
+  return energy_plain_from<Dim>(i, r.start[i], y, r, lane);
+}
+
 template <int Dim, bool Fracture>
 std::int64_t row_plain(std::int64_t i, const Fields& x, const RowArrays& r, const Breaking& w) {
   double lanes[Dim][4] = {};
@@ -110,6 +144,31 @@ std::int64_t row_avx2(std::int64_t i, const Fields& x, const RowArrays& r, const
   write_force<Dim>(i, x, lanes);
   return broken;
 }
+template <int Dim>
+double energy_avx2(std::int64_t i, const double* const y[3], const RowArrays& r) {
+  __m256d yi[Dim];
+  for (int a = 0; a < Dim; ++a) yi[a] = _mm256_set1_pd(y[a][i]);
+  const __m256d one = _mm256_set1_pd(1.0), zero = _mm256_setzero_pd();
+  __m256d acc = zero;
+  const std::int64_t begin = r.start[i], end = begin + r.count[i];
+  const std::int64_t blocks_end = begin + ((end - begin) & ~std::int64_t{3});
+  for (std::int64_t k = begin; k < blocks_end; k += 4) {
+    const std::int32_t* j = r.other + k;
+    __m256d l2 = zero;
+    for (int a = 0; a < Dim; ++a) {
+      const double* ya = y[a];
+      const __m256d d = _mm256_sub_pd(_mm256_set_pd(ya[j[3]], ya[j[2]], ya[j[1]], ya[j[0]]), yi[a]);
+      l2 = _mm256_add_pd(l2, _mm256_mul_pd(d, d));
+    }
+    const __m256d c = _mm256_loadu_pd(r.coefficient + k), inv = _mm256_loadu_pd(r.inv_length + k);
+    const __m256d s = _mm256_sub_pd(_mm256_mul_pd(_mm256_sqrt_pd(l2), inv), one);
+    const __m256d e = _mm256_div_pd(_mm256_mul_pd(_mm256_mul_pd(c, s), s), inv);
+    acc = _mm256_add_pd(acc, _mm256_and_pd(e, _mm256_cmp_pd(c, zero, _CMP_NEQ_UQ)));
+  }
+  alignas(32) double lane[4];
+  _mm256_store_pd(lane, acc);
+  return energy_plain_from<Dim>(i, blocks_end, y, r, lane);
+}
 #pragma GCC pop_options
 #endif
 
@@ -132,6 +191,18 @@ RowKernel row_kernel(Build build) {
   return row_plain<Dim, Fracture>;
 }
 
+template <int Dim>
+RowEnergy row_energy_kernel(Build build) {
+#ifdef DHPD_HAS_AVX2_BUILD
+  if (build == Build::Avx2 && avx2_available()) return energy_avx2<Dim>;
+#endif
+  (void)build;
+  return energy_plain<Dim>;
+}
+
+template RowEnergy row_energy_kernel<1>(Build);
+template RowEnergy row_energy_kernel<2>(Build);
+template RowEnergy row_energy_kernel<3>(Build);
 template RowKernel row_kernel<1, false>(Build);
 template RowKernel row_kernel<1, true>(Build);
 template RowKernel row_kernel<2, false>(Build);

@@ -45,6 +45,11 @@ struct Fields {
 using RowKernel = std::int64_t (*)(std::int64_t i, const Fields& x, const RowArrays& r,
                                    const Breaking& w);
 
+/// Σ_k c_k s_k² |ξ_k| of row i (the pair energy of docs/theory.md §3 before ¼ V_i), from the
+/// positions y (first Dim axes); entries with c_k = 0 add exactly 0. Same lanes and order in
+/// both builds, so the same bits.
+using RowEnergy = double (*)(std::int64_t i, const double* const y[3], const RowArrays& r);
+
 enum class Build { Plain, Avx2 };
 
 /// Whether this CPU runs the AVX2 build.
@@ -57,5 +62,9 @@ inline Build best_build() {
 /// The row kernel of a build (Avx2 on a CPU without it falls back to Plain).
 template <int Dim, bool Fracture>
 RowKernel row_kernel(Build build);
+
+/// The row energy of a build (Avx2 on a CPU without it falls back to Plain).
+template <int Dim>
+RowEnergy row_energy_kernel(Build build);
 
 }  // namespace dhpd::kernel

@@ -115,6 +115,27 @@ TEST_P(ForceKernel, FusedBreakingMatchesBruteForceAndARebuild) {
   EXPECT_EQ(force_and_break(s.a.rows, bonds, s.p, inputs_of(s)), 0);
 }
 
+// The total strain energy from the rows' pair coefficients (each pair once per row, own and dual
+// parts together) is the sum of V_i W_i over own bonds, with broken bonds and both force models.
+TEST_P(ForceKernel, PairEnergyOfRowsEqualsOwnBondEnergy) {
+  for (const auto model : {ForceModel::DualHorizon, ForceModel::ClassicalVariable}) {
+    auto s = stretched_cloud(GetParam(), 7);
+    s.a.rows = build_interactions({model, s.a.bonds, s.a.dual, s.p, s.a.C, s.a.s0});
+    const RowInputs in{model, s.a.bonds, s.a.dual, s.p, s.a.C, s.a.s0};
+    ASSERT_GT(force_and_break(s.a.rows, s.a.bonds, s.p, in), 0);
+    std::vector<double> w;
+    strain_energy_density(s.a.bonds, s.p, s.a.C, w);
+    double expected = 0.0;
+    for (std::size_t i = 0; i < s.p.size(); ++i) expected += s.p.volume[i] * w[i];
+    ASSERT_GT(expected, 0.0);
+    EXPECT_NEAR(strain_energy_total(s.a.rows, s.p), expected, 1e-12 * expected)
+        << (model == ForceModel::ClassicalVariable ? "classical" : "dual-horizon");
+    // A model factor or a dual part counted twice would be off by tens of percent.
+    s.a.rows.coefficient.assign(s.a.rows.coefficient.size(), 0.0);
+    EXPECT_EQ(strain_energy_total(s.a.rows, s.p), 0.0);
+  }
+}
+
 TEST_P(ForceKernel, PlainAndAvx2BuildsGiveTheSameBits) {
   if (!kernel::avx2_available()) GTEST_SKIP() << "this CPU has no AVX2";
   const int dim = GetParam();
@@ -149,6 +170,24 @@ TEST_P(ForceKernel, PlainAndAvx2BuildsGiveTheSameBits) {
       EXPECT_GT(broken[0], 0);
     }
   }
+}
+
+TEST_P(ForceKernel, PlainAndAvx2RowEnergiesGiveTheSameBits) {
+  if (!kernel::avx2_available()) GTEST_SKIP() << "this CPU has no AVX2";
+  const int dim = GetParam();
+  auto s = stretched_cloud(dim, 11);
+  ASSERT_GT(force_and_break(s.a.rows, s.a.bonds, s.p, inputs_of(s)), 0);  // some c_k = 0
+  const double* const y[3] = {s.p.position[0].data(), s.p.position[1].data(),
+                              s.p.position[2].data()};
+  const kernel::RowArrays r(s.a.rows);
+  std::vector<double> energy[2];
+  for (const auto build : {kernel::Build::Plain, kernel::Build::Avx2}) {
+    const auto row = with_dim(dim, [&](auto d) { return kernel::row_energy_kernel<d()>(build); });
+    for (std::size_t i = 0; i < s.p.size(); ++i)
+      energy[build == kernel::Build::Avx2].push_back(row(static_cast<std::int64_t>(i), y, r));
+  }
+  EXPECT_EQ(0, std::memcmp(energy[0].data(), energy[1].data(), energy[0].size() * 8));
+  EXPECT_GT(*std::max_element(energy[0].begin(), energy[0].end()), 0.0);
 }
 
 INSTANTIATE_TEST_SUITE_P(Dimensions, ForceKernel, ::testing::Values(1, 2, 3));
