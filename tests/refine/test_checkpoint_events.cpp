@@ -16,6 +16,7 @@
 
 #include "engine/checkpoint/checkpoint.hpp"
 #include "refine/refiner.hpp"
+#include "tests/support/adaptive_run.hpp"
 #include "tests/support/checkpoint.hpp"
 
 namespace dhpd {
@@ -24,28 +25,7 @@ namespace {
 using test::expect_restart_exact;
 using test::pulled_plate;
 
-/// A simulation with a damage-triggered refiner, stepped like the run loop does.
-struct Stepper {
-  explicit Stepper(const SimulationSetup& setup) : sim(setup) {
-    refine::Settings set;
-    set.trigger.damage = 0.02;
-    set.max_level = 1;
-    set.check_every = 5;
-    refiner.emplace(set);
-  }
-  void advance(std::int64_t steps) {
-    for (std::int64_t k = 0; k < steps; ++k) {
-      sim.step();
-      if (!refiner->due(sim.steps_done())) continue;
-      const auto ev = refiner->check(sim);
-      events += ev.parents > 0 ? 1 : 0;
-      resorts += ev.resorted ? 1 : 0;
-    }
-  }
-  Simulation sim;
-  std::optional<refine::Refiner> refiner;
-  int events = 0, resorts = 0;
-};
+using Stepper = test::AdaptiveRun;
 
 TEST(Checkpoint, AdaptivePlateRestartsBitForBitWithEventsAndResortOnBothSides) {
   auto setup = pulled_plate();

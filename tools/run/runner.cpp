@@ -336,7 +336,12 @@ void run_scene(const scene::Scene& s, const RunOptions& opt) {
   for (const auto& w : warnings) log.line("dhpd: warning: " + w);
   if (hook) {
     hook->refiner.prepare(*sim);  // the events' search, before the first one is timed
-    hook->refiner.set_event_check(event_check(log, budget, opt.max_memory_mb.has_value()));
+    // The guard's copy keeps the discretisation its step part belongs to before an event edits it.
+    hook->refiner.set_event_check([check = event_check(log, budget, opt.max_memory_mb.has_value()),
+                                   &ctx](const Simulation& state_now, std::size_t parents) {
+      check(state_now, parents);
+      ctx.good.simulation.before_edit(state_now);
+    });
     hook->events = state.refinement_events;
     hook->csv =
         std::make_unique<io::RefinementWriter>((dir / "refinement.csv").string(), from.has_value());

@@ -1,0 +1,213 @@
+// The one list of a Simulation's members that checkpoints and the guard's copy archive
+// (docs/checkpoint.md): the whole state (save, load) and the part a time step changes (save_step,
+// load_step). Included only by engine/checkpoint/*.cpp.
+#pragma once
+#include <fmt/core.h>
+
+#include <algorithm>
+#include <array>
+#include <string>
+#include <type_traits>
+
+#include "engine/checkpoint/archive.hpp"
+#include "engine/physics/bond_loops.hpp"
+#include "engine/simulation.hpp"
+
+namespace dhpd {
+
+/// Every member of a Simulation that decides its future, in one list for writing and reading.
+struct CheckpointAccess {
+  template <class Rows, class Ar>
+  static void rows(Rows& r, Ar& ar) {
+    ar(r.start), ar(r.count), ar(r.capacity), ar(r.arena), ar(r.garbage);
+  }
+
+  /// Loads, per-particle constants, clocks, ledgers and counters: the last members of both lists.
+  template <class Sim, class Ar>
+  static void loads_constants_and_clocks(Sim& s, Ar& ar) {
+    auto& l = s.loads_;
+    ar(l.prescribed), ar(l.mask), ar(l.prescribed_velocity), ar(l.loaded), ar(l.body_force);
+    ar(l.condition_body_force);
+    ar(s.C_), ar(s.s0_), ar(s.particle_dt_);
+    ar(s.reach_), ar(s.max_horizon_), ar(s.appended_since_compaction_), ar(s.layout_version_);
+    ar(s.time_), ar(s.dt_), ar(s.critical_dt_);
+    ar(s.external_work_), ar(s.last_power_);
+    ar(s.budget_.tolerance), ar(s.budget_.initial), ar(s.budget_.mapping), ar(s.budget_.scale);
+    ar(s.conservative_), ar(s.blowup_factor_);
+    ar(s.steps_), ar(s.broken_), ar(s.bond_updates_), ar(s.generation_), ar(s.next_id_);
+  }
+
+  template <class Sim, class Ar>
+  static void members(Sim& s, Ar& ar) {
+    rows(s.bonds_.rows, ar);
+    ar(s.bonds_.owner), ar(s.bonds_.neighbor), ar(s.bonds_.length), ar(s.bonds_.weight);
+    ar(s.bonds_.intact), ar(s.bonds_.stiffness), ar(s.bonds_.live);
+    rows(s.dual_.rows, ar);
+    ar(s.dual_.bond);
+    rows(s.il_.rows, ar);
+    ar(s.il_.other), ar(s.il_.inv_length), ar(s.il_.coefficient), ar(s.il_.break_at);
+    ar(s.il_.own_bond), ar(s.il_.dual_bond), ar(s.il_.alive), ar(s.il_.live);
+    loads_constants_and_clocks(s, ar);
+  }
+
+  /// What a time step changes between edits (the guard's copy): the bonds' and rows' intact
+  /// states, loads, per-particle constants, clocks, ledgers and counters, with every particle
+  /// field (save_step). The rows' coefficients and break thresholds follow from the alive bits
+  /// and are recomputed on loading; the rest of the rows and bonds only changes in an edit.
+  template <class Sim, class Ar>
+  static void step_members(Sim& s, Ar& ar) {
+    ar(s.bonds_.intact), ar(s.il_.alive);
+    loads_constants_and_clocks(s, ar);
+  }
+
+  template <class Ar>
+  static void save_fields(const Simulation& s, Ar& ar) {
+    ar(static_cast<std::int32_t>(s.p_.dim()));
+    // fields() hands out pointers for writing; here they are only read.
+    for (const auto& f : const_cast<ParticleStore&>(s.p_).fields()) {
+      ar(std::string(f.name));
+      std::visit([&ar](const auto* data) { ar(*data); }, f.data);
+    }
+  }
+
+  static void load_fields(Simulation& s, archive::Reader& ar) {
+    std::int32_t dim = 0;
+    ar(dim);
+    if (dim != s.p_.dim())
+      ar.fail(fmt::format("it is a {}D run, this scene is {}D", dim, s.p_.dim()));
+    for (auto& f : s.p_.fields()) {
+      std::string name;
+      ar(name);
+      if (name != f.name)
+        ar.fail(fmt::format("particle field '{}' where '{}' was expected", name, f.name));
+      std::visit([&ar](auto* data) { ar(*data); }, f.data);
+    }
+  }
+
+  template <class Ar>
+  static void save_timers(const Simulation& s, Ar& ar) {
+    std::array<double, static_cast<int>(Phase::Count)> seconds{};
+    for (int k = 0; k < static_cast<int>(Phase::Count); ++k)
+      seconds[k] = s.timers_.seconds(static_cast<Phase>(k));
+    ar(seconds);
+  }
+
+  static void load_timers(Simulation& s, archive::Reader& ar) {
+    std::array<double, static_cast<int>(Phase::Count)> seconds{};
+    ar(seconds);
+    s.timers_ = PhaseTimers{};
+    for (int k = 0; k < static_cast<int>(Phase::Count); ++k)
+      s.timers_.add(static_cast<Phase>(k), seconds[k]);
+  }
+
+  template <class Ar>
+  static void save_step(const Simulation& s, Ar& ar) {
+    save_fields(s, ar);
+    step_members(s, ar);
+    save_timers(s, ar);
+  }
+
+  /// Overlays a save_step of this simulation's discretisation (same bonds and rows).
+  static void load_step(Simulation& s, archive::Reader& ar) {
+    load_fields(s, ar);
+    step_members(s, ar);
+    load_timers(s, ar);
+    if (ar.remaining() != 0) ar.fail("bytes left after the step state");
+    auto& il = s.il_;
+    if (!particles_fit(s) || s.bonds_.rows.rows() != s.p_.size() ||
+        s.il_.rows.rows() != s.p_.size() || s.bonds_.intact.size() != s.bonds_.neighbor.size() ||
+        il.alive.size() != il.other.size())
+      ar.fail("its arrays do not fit this discretisation");
+    const auto in = s.row_inputs();
+    for (std::size_t i = 0; i < s.p_.size(); ++i)
+      for (auto k = il.begin(i); k < il.end(i); ++k) {
+        il.coefficient[k] = entry_coefficient(il, i, k, in);
+        il.break_at[k] = entry_break_at(il, i, k, in);
+      }
+    s.touched_.assign(s.p_.size(), 0);
+    s.edit_.reset();
+  }
+
+  template <class Ar>
+  static void save(const Simulation& s, Ar& ar) {
+    save_fields(s, ar);
+    members(s, ar);
+    save_timers(s, ar);
+  }
+
+  static void load(Simulation& s, archive::Reader& ar) {
+    load_fields(s, ar);
+    members(s, ar);
+    load_timers(s, ar);
+    if (ar.remaining() != 0) ar.fail("bytes left after the simulation state");
+    check_consistent(s, ar);
+    s.touched_.assign(s.p_.size(), 0);
+    s.edit_.reset();
+    // Damage is kept current by the stepper; format-4 files may hold an older value.
+    if (s.setup_.effects.fracture) compute_damage(s.bonds_, s.p_);
+  }
+
+  template <class V>
+  static bool in_range(const V& v, std::int64_t lo, std::int64_t hi) {
+    return std::all_of(v.begin(), v.end(), [&](auto x) { return x >= lo && x < hi; });
+  }
+
+  /// Row i of every one of n rows lies inside an arena of `slots` entries.
+  static bool rows_fit(const RowIndex& r, std::size_t n, std::size_t slots) {
+    if (r.rows() != n || r.count.size() != n || r.capacity.size() != n) return false;
+    if (r.arena < 0 || static_cast<std::size_t>(r.arena) != slots) return false;
+    for (std::size_t i = 0; i < n; ++i)
+      if (r.start[i] < 0 || r.count[i] < 0 || r.count[i] > r.capacity[i] ||
+          r.start[i] + r.capacity[i] > r.arena)
+        return false;
+    return true;
+  }
+
+  static bool particles_fit(const Simulation& s) {
+    const std::size_t n = s.p_.size();
+    for (auto& f : const_cast<ParticleStore&>(s.p_).fields()) {
+      const bool sized = std::visit(
+          [n](const auto* data) {
+            if constexpr (std::is_same_v<std::decay_t<decltype(*data)>, VectorArray>)
+              return (*data)[0].size() == n && (*data)[1].size() == n && (*data)[2].size() == n;
+            else
+              return data->size() == n;
+          },
+          f.data);
+      if (!sized) return false;
+    }
+    const auto materials = static_cast<std::int64_t>(s.setup_.materials.size());
+    return in_range(s.p_.material, 0, materials) && s.C_.size() == n && s.s0_.size() == n &&
+           s.particle_dt_.size() == n;
+  }
+
+  /// Sizes and indices agree with each other, so no later access leaves the arrays.
+  static void check_consistent(const Simulation& s, const archive::Reader& ar) {
+    if (!particles_fit(s)) ar.fail("its particle arrays do not fit together");
+    const auto n = static_cast<std::int64_t>(s.p_.size());
+    const auto& b = s.bonds_;
+    const std::size_t slots = b.neighbor.size();
+    const auto& il = s.il_;
+    const std::size_t entries = il.other.size();
+    const auto& l = s.loads_;
+    const bool ok = rows_fit(b.rows, s.p_.size(), slots) && b.owner.size() == slots &&
+                    b.length.size() == slots && b.weight.size() == slots &&
+                    b.intact.size() == slots && b.stiffness.size() == slots &&
+                    in_range(b.owner, -1, n) && in_range(b.neighbor, -1, n) &&
+                    rows_fit(s.dual_.rows, s.p_.size(), s.dual_.bond.size()) &&
+                    in_range(s.dual_.bond, -1, static_cast<std::int64_t>(slots)) &&
+                    rows_fit(il.rows, s.p_.size(), entries) && il.inv_length.size() == entries &&
+                    il.coefficient.size() == entries && il.break_at.size() == entries &&
+                    il.own_bond.size() == entries && il.dual_bond.size() == entries &&
+                    il.alive.size() == entries && in_range(il.other, -1, n) &&
+                    in_range(il.own_bond, -1, static_cast<std::int64_t>(slots)) &&
+                    in_range(il.dual_bond, -1, static_cast<std::int64_t>(slots)) &&
+                    in_range(l.prescribed, 0, n) && in_range(l.loaded, 0, n) &&
+                    l.mask.size() == l.prescribed.size() &&
+                    l.prescribed_velocity.size() == l.prescribed.size() &&
+                    l.body_force.size() == l.loaded.size();
+    if (!ok) ar.fail("its bond, dual, interaction or load arrays do not fit together");
+  }
+};
+
+}  // namespace dhpd

@@ -1,0 +1,52 @@
+// The guard's copy of a simulation (see guard_copy.hpp).
+#include "engine/checkpoint/guard_copy.hpp"
+
+#include <stdexcept>
+
+#include "engine/checkpoint/archive.hpp"
+#include "engine/checkpoint/checkpoint.hpp"
+#include "engine/checkpoint/checkpoint_access.hpp"
+
+namespace dhpd {
+
+void save_step_state_into(const Simulation& sim, std::vector<std::byte>& out) {
+  archive::Writer count(true);
+  CheckpointAccess::save_step(sim, count);
+  if (count.size() > out.capacity()) std::vector<std::byte>().swap(out);
+  archive::Writer w(std::move(out));
+  w.reserve(count.size());
+  CheckpointAccess::save_step(sim, w);
+  out = std::move(w.bytes());
+}
+
+void load_step_state(const std::vector<std::byte>& bytes, Simulation& sim) {
+  archive::Reader r(bytes, "the guard's copy");
+  CheckpointAccess::load_step(sim, r);
+}
+
+void GuardCopy::take(const Simulation& sim) {
+  save_step_state_into(sim, step_);
+  std::vector<std::byte>().swap(whole_);
+  generation_ = sim.generation();
+  layout_ = sim.layout_version();
+}
+
+void GuardCopy::before_edit(const Simulation& sim) {
+  if (step_.empty() || !whole_.empty()) return;
+  if (sim.generation() != generation_ || sim.layout_version() != layout_)
+    throw std::logic_error("GuardCopy::before_edit: the discretisation changed since take()");
+  save_simulation_into(sim, whole_);
+}
+
+void GuardCopy::restore(Simulation& sim) const {
+  if (step_.empty()) throw std::logic_error("GuardCopy::restore: nothing was taken");
+  if (!whole_.empty()) {
+    load_simulation(whole_, sim, "the guard's copy");
+  } else if (sim.generation() != generation_ || sim.layout_version() != layout_) {
+    throw std::logic_error(
+        "GuardCopy::restore: the discretisation changed after take() without before_edit()");
+  }
+  load_step_state(step_, sim);
+}
+
+}  // namespace dhpd
