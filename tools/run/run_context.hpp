@@ -12,6 +12,7 @@
 #include "engine/checkpoint/checkpoint.hpp"
 #include "engine/checkpoint/guard_copy.hpp"
 #include "engine/simulation.hpp"
+#include "tools/output/background_frames.hpp"
 #include "tools/output/frame_fields.hpp"
 #include "tools/output/text_outputs.hpp"
 #include "tools/output/vtk_writer.hpp"
@@ -61,7 +62,7 @@ struct LastGood {
 struct RunContext {
   const scene::Scene& scene;
   Simulation& sim;
-  io::FrameSeries frames;
+  io::BackgroundFrames frames;
   io::HistoryWriter history;
   std::vector<std::string> fields;
   CrackHook* cracks = nullptr;     ///< with `measure` only
@@ -119,7 +120,8 @@ struct RunContext {
   /// After the guard stopped the run: the last good state becomes the final frame (unless a later
   /// good frame exists) and the checkpoint. Returns what was written, for the message.
   std::string write_last_good() {
-    if (good.step < 0) return "";
+    const std::string lost = frames.drain_quietly();
+    if (good.step < 0) return lost.empty() ? "" : "; " + lost;
     good.simulation.restore(sim);
     if (cracks && good.cracks) cracks->tracker = *good.cracks;
     const auto& written = frames.entries();
@@ -130,9 +132,10 @@ struct RunContext {
     }
     write_checkpoint(checkpoint_file.string(), sim, good.run, scene_text);
     return fmt::format(
-        "; the last good state (step {}, t = {:.6g} s) is in {}{}", good.step, sim.time(),
+        "; the last good state (step {}, t = {:.6g} s) is in {}{}{}", good.step, sim.time(),
         checkpoint_file.string(),
-        good_frame ? " and the last frame passed the check" : " and written as the final frame");
+        good_frame ? " and the last frame passed the check" : " and written as the final frame",
+        lost.empty() ? "" : "; " + lost);
   }
   /// Whether step k writes a checkpoint: every output.checkpoint_every steps (never for 0), and
   /// when output.checkpoint_minutes of wall time passed since the last one (or the start).

@@ -169,6 +169,7 @@ void time_loop(RunContext& ctx, io::Progress& progress) {
     }
   }
   progress.finish();
+  ctx.frames.drain();  // a frame that failed is an IoError of the run, not of the checkpoint
   if (ctx.scene.output.checkpoint_every.value_or(1) == 0) return;
   try {  // the run is complete: a checkpoint that cannot be written does not undo it
     ctx.checkpoint();
@@ -248,7 +249,11 @@ RunContext open_outputs(const scene::Scene& s, Simulation& sim, const fs::path& 
   const auto compression = s.output.compression == "zlib"   ? io::Compression::zlib
                            : s.output.compression == "none" ? io::Compression::none
                                                             : io::Compression::lz4;
-  RunContext ctx{s, sim, io::FrameSeries(dir.string(), s.name, materials, compression),
+  // Frames in the background unless the machine has one core only (nothing to overlap with).
+  const bool background = std::thread::hardware_concurrency() > 1;
+  RunContext ctx{s, sim,
+                 io::BackgroundFrames(io::FrameSeries(dir.string(), s.name, materials, compression),
+                                      background),
                  io::HistoryWriter((dir / "history.csv").string(), resumed), output_field_names(s)};
   if (resumed) ctx.frames.resume(state.frames);
   ctx.state = &state;

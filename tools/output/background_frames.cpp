@@ -1,0 +1,115 @@
+// Frames written on a thread of their own (see background_frames.hpp).
+#include "tools/output/background_frames.hpp"
+
+#include <condition_variable>
+#include <exception>
+#include <mutex>
+#include <optional>
+#include <thread>
+
+#include "engine/base/errors.hpp"
+
+namespace dhpd::io {
+
+struct BackgroundFrames::Worker {
+  struct Frame {
+    double time = 0.0;
+    std::int64_t step = 0;
+    std::vector<double> points;
+    std::vector<PointField> fields;
+  };
+
+  explicit Worker(FrameSeries s) : series(std::move(s)) {}
+  FrameSeries series;
+  std::mutex mutex;
+  std::condition_variable changed;
+  std::optional<Frame> pending;  ///< handed over, not yet written
+  bool stop = false;
+  std::exception_ptr error;
+  std::thread thread;  ///< last: started after every member above exists
+
+  void run() {
+    std::unique_lock lock(mutex);
+    for (;;) {
+      changed.wait(lock, [&] { return stop || pending.has_value(); });
+      if (!pending) return;  // stopped with nothing left
+      Frame f = std::move(*pending);
+      lock.unlock();
+      std::exception_ptr failed;
+      try {
+        series.write(f.time, f.step, f.points, f.fields);
+      } catch (...) {
+        failed = std::current_exception();
+      }
+      lock.lock();
+      pending.reset();
+      error = failed;
+      changed.notify_all();
+      if (error) stop = true;  // no frame after a failed one
+    }
+  }
+  /// Waits until nothing is in flight (lock held by the caller).
+  void wait_idle(std::unique_lock<std::mutex>& lock) {
+    changed.wait(lock, [&] { return !pending.has_value(); });
+  }
+  void rethrow(std::unique_lock<std::mutex>& lock) {
+    wait_idle(lock);
+    if (error) std::rethrow_exception(error);
+  }
+};
+
+BackgroundFrames::BackgroundFrames(FrameSeries series, bool background)
+    : w_(std::make_unique<Worker>(std::move(series))) {
+  if (background) w_->thread = std::thread([w = w_.get()] { w->run(); });
+}
+
+BackgroundFrames::BackgroundFrames(BackgroundFrames&&) noexcept = default;
+
+BackgroundFrames::~BackgroundFrames() {
+  if (!w_ || !w_->thread.joinable()) return;
+  {
+    std::lock_guard lock(w_->mutex);
+    w_->stop = true;
+  }
+  w_->changed.notify_all();
+  w_->thread.join();
+}
+
+void BackgroundFrames::write(double time, std::int64_t step, std::vector<double> points,
+                             std::vector<PointField> fields) {
+  if (!w_->thread.joinable()) {
+    w_->series.write(time, step, points, fields);
+    return;
+  }
+  std::unique_lock lock(w_->mutex);
+  w_->rethrow(lock);
+  w_->pending = Worker::Frame{time, step, std::move(points), std::move(fields)};
+  w_->changed.notify_all();
+}
+
+void BackgroundFrames::drain() {
+  if (!w_->thread.joinable()) return;
+  std::unique_lock lock(w_->mutex);
+  w_->rethrow(lock);
+}
+
+std::string BackgroundFrames::drain_quietly() {
+  try {
+    drain();
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "";
+}
+
+const std::vector<std::pair<double, std::string>>& BackgroundFrames::entries() {
+  drain();
+  return w_->series.entries();
+}
+
+void BackgroundFrames::resume(std::vector<std::pair<double, std::string>> entries) {
+  drain();
+  w_->series.resume(std::move(entries));
+}
+
+}  // namespace dhpd::io
