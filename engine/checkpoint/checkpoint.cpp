@@ -61,12 +61,8 @@ std::vector<std::byte> save_simulation(const Simulation& sim) {
 }
 
 void save_simulation_into(const Simulation& sim, std::vector<std::byte>& out) {
-  const std::size_t n = simulation_snapshot_bytes(sim);
-  if (n > out.capacity()) std::vector<std::byte>().swap(out);
-  archive::Writer w(std::move(out));
-  w.reserve(n);
-  CheckpointAccess::save(sim, w);
-  out = std::move(w.bytes());
+  CheckpointAccess::save_into(sim, out,
+                              [](const Simulation& s, auto& ar) { CheckpointAccess::save(s, ar); });
 }
 
 std::size_t simulation_snapshot_bytes(const Simulation& sim) {

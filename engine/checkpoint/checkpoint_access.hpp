@@ -107,6 +107,19 @@ struct CheckpointAccess {
     save_timers(s, ar);
   }
 
+  /// Writes save(sim, writer) over `out`, in its memory when it is large enough (else `out` is
+  /// released before the new buffer is taken): replacing a copy never holds two.
+  template <class Save>
+  static void save_into(const Simulation& sim, std::vector<std::byte>& out, Save save) {
+    archive::Writer count(true);
+    save(sim, count);
+    if (count.size() > out.capacity()) std::vector<std::byte>().swap(out);
+    archive::Writer w(std::move(out));
+    w.reserve(count.size());
+    save(sim, w);
+    out = std::move(w.bytes());
+  }
+
   /// Overlays a save_step of this simulation's discretisation (same bonds and rows).
   static void load_step(Simulation& s, archive::Reader& ar) {
     load_fields(s, ar);
@@ -120,10 +133,7 @@ struct CheckpointAccess {
       ar.fail("its arrays do not fit this discretisation");
     const auto in = s.row_inputs();
     for (std::size_t i = 0; i < s.p_.size(); ++i)
-      for (auto k = il.begin(i); k < il.end(i); ++k) {
-        il.coefficient[k] = entry_coefficient(il, i, k, in);
-        il.break_at[k] = entry_break_at(il, i, k, in);
-      }
+      for (auto k = il.begin(i); k < il.end(i); ++k) refresh_entry(il, i, k, in);
     s.touched_.assign(s.p_.size(), 0);
     s.edit_.reset();
   }

@@ -10,13 +10,8 @@
 namespace dhpd {
 
 void save_step_state_into(const Simulation& sim, std::vector<std::byte>& out) {
-  archive::Writer count(true);
-  CheckpointAccess::save_step(sim, count);
-  if (count.size() > out.capacity()) std::vector<std::byte>().swap(out);
-  archive::Writer w(std::move(out));
-  w.reserve(count.size());
-  CheckpointAccess::save_step(sim, w);
-  out = std::move(w.bytes());
+  CheckpointAccess::save_into(
+      sim, out, [](const Simulation& s, auto& ar) { CheckpointAccess::save_step(s, ar); });
 }
 
 void load_step_state(const std::vector<std::byte>& bytes, Simulation& sim) {
@@ -33,7 +28,7 @@ void GuardCopy::take(const Simulation& sim) {
 
 void GuardCopy::before_edit(const Simulation& sim) {
   if (step_.empty() || !whole_.empty()) return;
-  if (sim.generation() != generation_ || sim.layout_version() != layout_)
+  if (!same_discretisation(sim))
     throw std::logic_error("GuardCopy::before_edit: the discretisation changed since take()");
   save_simulation_into(sim, whole_);
 }
@@ -42,7 +37,7 @@ void GuardCopy::restore(Simulation& sim) const {
   if (step_.empty()) throw std::logic_error("GuardCopy::restore: nothing was taken");
   if (!whole_.empty()) {
     load_simulation(whole_, sim, "the guard's copy");
-  } else if (sim.generation() != generation_ || sim.layout_version() != layout_) {
+  } else if (!same_discretisation(sim)) {
     throw std::logic_error(
         "GuardCopy::restore: the discretisation changed after take() without before_edit()");
   }

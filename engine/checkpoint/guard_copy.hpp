@@ -32,6 +32,9 @@ class GuardCopy {
   bool holds_whole_state() const { return !whole_.empty(); }
 
  private:
+  bool same_discretisation(const Simulation& sim) const {
+    return sim.generation() == generation_ && sim.layout_version() == layout_;
+  }
   std::vector<std::byte> step_, whole_;
   std::int64_t generation_ = -1, layout_ = -1;
 };

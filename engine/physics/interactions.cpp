@@ -74,8 +74,7 @@ void write_row(InteractionList& il, std::size_t i, const RowInputs& in,
     il.inv_length[k] = 1.0 / bonds.length[shared];
     il.alive[k] = static_cast<std::uint8_t>((e.own >= 0 && bonds.intact[e.own] ? kOwnAlive : 0) |
                                             (e.dual >= 0 && bonds.intact[e.dual] ? kDualAlive : 0));
-    il.coefficient[k] = entry_coefficient(il, i, k, in);
-    il.break_at[k] = entry_break_at(il, i, k, in);
+    refresh_entry(il, i, k, in);
     ++k;
   }
   il.rows.count[i] = static_cast<std::int32_t>(pairs.size());
@@ -154,8 +153,7 @@ int break_entry(InteractionList& il, std::size_t i, std::int64_t k, double l2, c
   }
   if ((alive & kDualAlive) && l2 >= exact_threshold(in, il.other[k], il.dual_bond[k]))
     alive = static_cast<std::uint8_t>(alive & ~kDualAlive);
-  il.coefficient[k] = entry_coefficient(il, i, k, in);
-  il.break_at[k] = entry_break_at(il, i, k, in);
+  refresh_entry(il, i, k, in);
   return broken;
 }
 

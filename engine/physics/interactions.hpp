@@ -68,6 +68,12 @@ double entry_coefficient(const InteractionList& il, std::size_t i, std::int64_t 
                          const RowInputs& in);
 /// The entry's break_at from its bonds and alive bits.
 float entry_break_at(const InteractionList& il, std::size_t i, std::int64_t k, const RowInputs& in);
+/// Sets the entry's coefficient and break_at from its bonds and alive bits (a build, a break and
+/// a restore of the alive bits all derive them this way).
+inline void refresh_entry(InteractionList& il, std::size_t i, std::int64_t k, const RowInputs& in) {
+  il.coefficient[k] = entry_coefficient(il, i, k, in);
+  il.break_at[k] = entry_break_at(il, i, k, in);
+}
 
 /// The slow path of the fused break test, for an entry whose squared current length l2 reached
 /// its break_at: breaks each alive bond with l2 ≥ ((1 + s0_owner)|ξ|)² (marking the own one in
