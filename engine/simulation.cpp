@@ -100,13 +100,13 @@ RowInputs Simulation::row_inputs() const {
   return {setup_.model, bonds_, dual_, p_, C_, s0_};
 }
 
-void Simulation::compute_forces(bool with_fracture) {
+void Simulation::compute_forces(bool with_fracture, std::vector<double>* row_energy) {
   {
     auto t = timers_.scope(Phase::Forces);
     if (with_fracture)
-      broken_ += force_and_break(il_, bonds_, p_, row_inputs());
+      broken_ += force_and_break(il_, bonds_, p_, row_inputs(), row_energy);
     else
-      internal_force_density(il_, p_);
+      internal_force_density(il_, p_, nullptr, row_energy);
   }
   auto t = timers_.scope(Phase::Loads);
   for (std::size_t k = 0; k < loads_.loaded.size(); ++k)
@@ -135,7 +135,7 @@ double Simulation::boundary_power() const {
   return power;
 }
 
-void Simulation::step() {
+void Simulation::step(StepExtras extras) {
   const double h = 0.5 * dt_;
   const auto n = static_cast<std::int64_t>(p_.size());
   const int dim = p_.dim();
@@ -158,7 +158,7 @@ void Simulation::step() {
         p_.position[a][i] = p_.reference_position[a][i] + p_.displacement[a][i];
       }
   }
-  compute_forces(setup_.effects.fracture);
+  compute_forces(setup_.effects.fracture, extras.strain_energy ? &fused_energy_.rows : nullptr);
   {
     auto t = timers_.scope(Phase::Integrate);
 #pragma omp parallel for schedule(static) if (n >= kParallelMinParticles)
@@ -185,6 +185,13 @@ void Simulation::step() {
   time_ += dt_;
   ++steps_;
   bond_updates_ += static_cast<std::int64_t>(bonds_.size());
+  if (extras.strain_energy) {
+    auto t = timers_.scope(Phase::Diagnostics);
+    fused_energy_.strain = strain_energy_of_row_sums(fused_energy_.rows, p_);
+    fused_energy_.step = steps_;
+    fused_energy_.generation = generation_;
+    fused_energy_.layout = layout_version_;
+  }
 }
 
 Energies Simulation::energies() {
@@ -203,7 +210,7 @@ Energies Simulation::energies() {
     kin[i] = 0.5 * p_.density[i] * p_.volume[i] * v2;
   }
   e.kinetic = ordered_sum(kin);
-  e.strain = strain_energy_total(il_, p_);
+  e.strain = strain_energy_from_step() ? fused_energy_.strain : strain_energy_total(il_, p_);
   e.external_work = external_work_;
   e.verlet_correction = verlet_correction();
   return e;
@@ -260,7 +267,7 @@ Simulation::MemoryUse Simulation::memory_use() const {
   m.bonds = bonds_.bytes();
   m.dual = dual_.bytes();
   m.rows = il_.bytes();
-  for (const auto* v : {&C_, &s0_, &particle_dt_, &kinetic_blocks_})
+  for (const auto* v : {&C_, &s0_, &particle_dt_, &kinetic_blocks_, &fused_energy_.rows})
     m.other += v->capacity() * sizeof(double);
   m.other += touched_.capacity();
   return m;

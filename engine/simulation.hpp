@@ -93,13 +93,26 @@ class Simulation {
  public:
   explicit Simulation(const SimulationSetup& setup);
 
-  void step();
+  /// What a step may compute on the way, for the outputs that follow it.
+  struct StepExtras {
+    /// The strain energy of the state the step leaves, from its force pass (energies() then
+    /// needs no pass over the bonds; the same bits either way).
+    bool strain_energy = false;
+  };
+  void step(StepExtras extras);
+  void step() { step(StepExtras{}); }
   void run_steps(std::int64_t n) {
     for (std::int64_t k = 0; k < n; ++k) step();
   }
 
   /// Energies and momentum of the current state (deterministic sums).
   Energies energies();
+  /// Whether energies() takes the strain energy from the last step's force pass (that step asked
+  /// for it, and nothing edited the discretisation since).
+  bool strain_energy_from_step() const {
+    const auto& f = fused_energy_;
+    return f.step == steps_ && f.generation == generation_ && f.layout == layout_version_;
+  }
   /// Throws InstabilityError when the state holds a NaN/Inf or kinetic + strain energy is above
   /// the energy budget (step() checks the kinetic energy alone every step).
   void check_stable(const Energies& e) const;
@@ -175,7 +188,8 @@ class Simulation {
   void update_bond_constants();
   void update_bond_constants(const std::vector<std::int32_t>& slots);
   /// Internal force densities plus body forces; with fracture, bonds break in the same pass.
-  void compute_forces(bool with_fracture = false);
+  /// With `row_energy`, the pass also leaves each row's energy sum there (force kernels, Energy).
+  void compute_forces(bool with_fracture = false, std::vector<double>* row_energy = nullptr);
   RowInputs row_inputs() const;
   void enforce_prescribed_velocity();
   double boundary_power() const;
@@ -211,6 +225,14 @@ class Simulation {
   bool conservative_ = true;            ///< the model conserves energy (not classical-variable)
   double blowup_factor_ = 2.0;          ///< plain energy above this × the balance is a blow-up
   std::vector<double> kinetic_blocks_;  ///< guard scratch
+  /// The strain energy a step's force pass computed, valid while steps_, generation_ and
+  /// layout_version_ are still those it was computed at (not part of the state).
+  struct FusedEnergy {
+    std::int64_t step = -1, generation = -1, layout = -1;
+    double strain = 0.0;
+    std::vector<double> rows;  ///< the pass's row sums (scratch)
+  };
+  FusedEnergy fused_energy_;
   std::int64_t steps_ = 0, broken_ = 0, bond_updates_ = 0;
   std::int64_t generation_ = 0;
   std::int32_t next_id_ = 0;

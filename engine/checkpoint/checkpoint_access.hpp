@@ -136,6 +136,7 @@ struct CheckpointAccess {
       for (auto k = il.begin(i); k < il.end(i); ++k) refresh_entry(il, i, k, in);
     s.touched_.assign(s.p_.size(), 0);
     s.edit_.reset();
+    s.fused_energy_ = {};
   }
 
   template <class Ar>
@@ -153,6 +154,7 @@ struct CheckpointAccess {
     check_consistent(s, ar);
     s.touched_.assign(s.p_.size(), 0);
     s.edit_.reset();
+    s.fused_energy_ = {};
     // Damage is kept current by the stepper; format-4 files may hold an older value.
     if (s.setup_.effects.fracture) compute_damage(s.bonds_, s.p_);
   }

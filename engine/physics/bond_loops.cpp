@@ -39,14 +39,16 @@ void damage_of(const BondList& bonds, ParticleStore& p, std::size_t i) {
 /// Every row, or only `subset` when given, with the kernel build this CPU runs. With Fracture, a
 /// row that broke one of its own bonds refreshes its damage at once: only row i writes i's own
 /// bonds, so this stays race-free, and damage is always current without a pass over all bonds.
-template <int Dim, bool Fracture>
+/// With Energy, row i's Σ_k c_k s_k² |ξ_k| goes to energy[i].
+template <int Dim, bool Fracture, bool Energy>
 std::int64_t force_rows(const InteractionList& il, const kernel::Breaking& w, ParticleStore& p,
-                        const std::vector<std::int32_t>* subset) {
+                        const std::vector<std::int32_t>* subset, double* energy) {
   const kernel::Fields x{
       {p.position[0].data(), p.position[1].data(), p.position[2].data()},
-      {p.force_density[0].data(), p.force_density[1].data(), p.force_density[2].data()}};
+      {p.force_density[0].data(), p.force_density[1].data(), p.force_density[2].data()},
+      energy};
   const kernel::RowArrays r(il);
-  const auto row = kernel::row_kernel<Dim, Fracture>(kernel::best_build());
+  const auto row = kernel::row_kernel<Dim, Fracture, Energy>(kernel::best_build());
   auto force_row = [&](std::int64_t i) {
     const std::int64_t broke = row(i, x, r, w);
     if constexpr (Fracture)
@@ -62,6 +64,15 @@ std::int64_t force_rows(const InteractionList& il, const kernel::Breaking& w, Pa
 #pragma omp parallel for schedule(static) reduction(+ : broken) if (n >= kParallelMinParticles)
   for (std::int64_t i = 0; i < n; ++i) broken += force_row(i);
   return broken;
+}
+
+/// force_rows with the energy output when `energy` is given (sized to the store first).
+template <int Dim, bool Fracture>
+std::int64_t force_rows_with(const InteractionList& il, const kernel::Breaking& w, ParticleStore& p,
+                             const std::vector<std::int32_t>* subset, std::vector<double>* energy) {
+  if (!energy) return force_rows<Dim, Fracture, false>(il, w, p, subset, nullptr);
+  energy->resize(p.size());
+  return force_rows<Dim, Fracture, true>(il, w, p, subset, energy->data());
 }
 
 template <int Dim>
@@ -103,24 +114,32 @@ double strain_energy_total(const InteractionList& il, const ParticleStore& p) {
   const double* const y[3] = {p.position[0].data(), p.position[1].data(), p.position[2].data()};
   const kernel::RowArrays r(il);
   std::vector<double> rows(p.size());
-  // V_i Σ_k ¼ c_k s_k² |ξ_k| per row; entries without an intact bond (c = 0) add nothing.
   with_dim(p.dim(), [&](auto d) {
     const auto energy = kernel::row_energy_kernel<d()>(kernel::best_build());
-    each_row(p.size(), nullptr,
-             [&](std::int64_t i) { rows[i] = 0.25 * p.volume[i] * energy(i, y, r); });
+    each_row(p.size(), nullptr, [&](std::int64_t i) { rows[i] = energy(i, y, r); });
   });
-  return ordered_sum(rows);
+  return strain_energy_of_row_sums(rows, p);
+}
+
+double strain_energy_of_row_sums(std::vector<double>& row_sums, const ParticleStore& p) {
+  // V_i Σ_k ¼ c_k s_k² |ξ_k| per row; entries without an intact bond (c = 0) add nothing.
+  for (std::size_t i = 0; i < p.size(); ++i) row_sums[i] = 0.25 * p.volume[i] * row_sums[i];
+  return ordered_sum(row_sums);
 }
 
 void internal_force_density(const InteractionList& il, ParticleStore& p,
-                            const std::vector<std::int32_t>* rows) {
-  with_dim(p.dim(), [&](auto d) { force_rows<d(), false>(il, kernel::Breaking{}, p, rows); });
+                            const std::vector<std::int32_t>* rows,
+                            std::vector<double>* row_energy) {
+  with_dim(p.dim(), [&](auto d) {
+    force_rows_with<d(), false>(il, kernel::Breaking{}, p, rows, row_energy);
+  });
 }
 
 std::int64_t force_and_break(InteractionList& il, BondList& bonds, ParticleStore& p,
-                             const RowInputs& in) {
+                             const RowInputs& in, std::vector<double>* row_energy) {
   const kernel::Breaking w{&il, &in, bonds.intact.data()};
-  return with_dim(p.dim(), [&](auto d) { return force_rows<d(), true>(il, w, p, nullptr); });
+  return with_dim(
+      p.dim(), [&](auto d) { return force_rows_with<d(), true>(il, w, p, nullptr, row_energy); });
 }
 
 void strain_energy_density(const BondList& bonds, const ParticleStore& p,

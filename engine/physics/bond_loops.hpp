@@ -14,9 +14,12 @@ namespace dhpd {
 
 /// Overwrites `force_density` with the internal force per unit volume of every particle:
 /// f_i = Σ_k K_k β_k V_k s_k n_k, gathered row by row (no atomics, thread-count independent).
-/// With `rows`, only those particles are updated.
+/// With `rows`, only those particles are updated. With `row_energy`, the same pass also writes
+/// each updated row's Σ_k c_k s_k² |ξ_k| there (strain_energy_of_row_sums turns it into the
+/// strain energy, the same bits as strain_energy_total of the state).
 void internal_force_density(const InteractionList& il, ParticleStore& p,
-                            const std::vector<std::int32_t>* rows = nullptr);
+                            const std::vector<std::int32_t>* rows = nullptr,
+                            std::vector<double>* row_energy = nullptr);
 
 /// internal_force_density of every row with bond breaking fused in: each intact bond with
 /// s ≥ s0 of its owner (as the rows' break thresholds hold it; no_fail owners never break) is
@@ -24,9 +27,9 @@ void internal_force_density(const InteractionList& il, ParticleStore& p,
 /// Every particle that lost an own bond gets its p.damage refreshed in the same pass, so damage
 /// stays current as long as edits recompute it (Simulation does). Returns the number of bonds
 /// broken by this call. `in` describes the same bonds and particles with the owners' constants (C,
-/// s0).
+/// s0). With `row_energy`, as internal_force_density: the row sums after the pass's breaks.
 std::int64_t force_and_break(InteractionList& il, BondList& bonds, ParticleStore& p,
-                             const RowInputs& in);
+                             const RowInputs& in, std::vector<double>* row_energy = nullptr);
 
 /// φ_i = 1 − Σ μ β V_j / Σ β V_j over own bonds (docs/theory.md §8); written to p.damage.
 /// With `rows`, only those particles are updated.
@@ -47,6 +50,8 @@ double strain_energy_of_rows(const BondList& bonds, const ParticleStore& p,
 /// over the rows (no second walk of own bonds), summed per row then in row order: the same bits
 /// for every thread count. Equals the sum over strain_energy_density to round-off.
 double strain_energy_total(const InteractionList& il, const ParticleStore& p);
+/// Σ_i ¼ V_i e_i in row order from the row sums e_i of a force pass (overwritten with the terms).
+double strain_energy_of_row_sums(std::vector<double>& row_sums, const ParticleStore& p);
 
 /// Quadrature diagnostic (V_i + Σ_{j∈H_i} β_ij V_j) / |ball(δ_i)| (docs/theory.md §7), over all own
 /// bonds of the reference configuration (broken ones included; pre-cracked pairs have no bond).

@@ -11,10 +11,18 @@
 namespace dhpd::kernel {
 namespace {
 
-/// One entry in plain arithmetic: the same operations as a lane of the AVX2 build.
-template <int Dim, bool Fracture>
+/// c s² |ξ| of an entry from its squared deformed length, s = |y| / |ξ| − 1 with 1/|ξ| stored
+/// (eq. 3.1); 0 exactly when c = 0. The AVX2 builds do the same operations lane by lane.
+inline double energy_of_entry(double l2, double c, double inv_length) {
+  const double s = std::sqrt(l2) * inv_length - 1.0;
+  return c != 0.0 ? c * s * s / inv_length : 0.0;
+}
+
+/// One entry in plain arithmetic: the same operations as a lane of the AVX2 build. With Energy,
+/// the entry's c s² |ξ| (after its break test) is added to `energy`.
+template <int Dim, bool Fracture, bool Energy>
 inline int entry(std::int64_t i, std::int64_t k, const double yi[Dim], const Fields& x,
-                 const RowArrays& r, const Breaking& w, double lane[Dim]) {
+                 const RowArrays& r, const Breaking& w, double lane[Dim], double& energy) {
   const std::int32_t j = r.other[k];
   double dx[Dim], l2 = 0.0;
   for (int a = 0; a < Dim; ++a) dx[a] = x.y[a][j] - yi[a], l2 += dx[a] * dx[a];
@@ -24,13 +32,19 @@ inline int entry(std::int64_t i, std::int64_t k, const double yi[Dim], const Fie
       broken = break_entry(*w.il, static_cast<std::size_t>(i), k, l2, *w.in, w.intact);
   const double s = r.coefficient[k] * (r.inv_length[k] - 1.0 / std::sqrt(l2));
   for (int a = 0; a < Dim; ++a) lane[a] += s * dx[a];
+  if constexpr (Energy) energy += energy_of_entry(l2, r.coefficient[k], r.inv_length[k]);
   return broken;
 }
 
-template <int Dim>
-inline void write_force(std::int64_t i, const Fields& x, const double lanes[Dim][4]) {
-  for (int a = 0; a < Dim; ++a)
-    x.f[a][i] = (lanes[a][0] + lanes[a][1]) + (lanes[a][2] + lanes[a][3]);
+inline double sum_lanes(const double lane[4]) {
+  return (lane[0] + lane[1]) + (lane[2] + lane[3]);
+}
+
+template <int Dim, bool Energy>
+inline void write_force(std::int64_t i, const Fields& x, const double lanes[Dim][4],
+                        const double energy_lanes[4]) {
+  for (int a = 0; a < Dim; ++a) x.f[a][i] = sum_lanes(lanes[a]);
+  if constexpr (Energy) x.energy[i] = sum_lanes(energy_lanes);
 }
 
 /// The slow path of a block of four entries from k: break_entry for each lane set in `hit`.
@@ -45,9 +59,9 @@ inline void write_force(std::int64_t i, const Fields& x, const double lanes[Dim]
 }
 
 /// Entries [from, end) of row i in plain arithmetic, entry k into lane (k − row start) mod 4.
-template <int Dim, bool Fracture>
+template <int Dim, bool Fracture, bool Energy>
 std::int64_t plain_entries(std::int64_t i, std::int64_t from, const Fields& x, const RowArrays& r,
-                           const Breaking& w, double lanes[Dim][4]) {
+                           const Breaking& w, double lanes[Dim][4], double energy_lanes[4]) {
   double yi[Dim];
   for (int a = 0; a < Dim; ++a) yi[a] = x.y[a][i];
   std::int64_t broken = 0;
@@ -56,14 +70,13 @@ std::int64_t plain_entries(std::int64_t i, std::int64_t from, const Fields& x, c
     const auto t = static_cast<int>((k - begin) & 3);
     double lane[Dim];
     for (int a = 0; a < Dim; ++a) lane[a] = lanes[a][t];
-    broken += entry<Dim, Fracture>(i, k, yi, x, r, w, lane);
+    broken += entry<Dim, Fracture, Energy>(i, k, yi, x, r, w, lane, energy_lanes[t]);
     for (int a = 0; a < Dim; ++a) lanes[a][t] = lane[a];
   }
   return broken;
 }
 
-/// c s² |ξ| of entry k in plain arithmetic, s = |y| / |ξ| − 1 with 1/|ξ| stored (eq. 3.1); the
-/// AVX2 build does the same operations lane by lane.
+/// c s² |ξ| of entry k of row i in plain arithmetic.
 template <int Dim>
 inline double entry_energy(std::int64_t i, std::int64_t k, const double* const y[3],
                            const RowArrays& r) {
@@ -73,13 +86,7 @@ inline double entry_energy(std::int64_t i, std::int64_t k, const double* const y
     const double d = y[a][j] - y[a][i];
     l2 += d * d;
   }
-  const double c = r.coefficient[k];
-  const double s = std::sqrt(l2) * r.inv_length[k] - 1.0;
-  return c != 0.0 ? c * s * s / r.inv_length[k] : 0.0;
-}
-
-inline double sum_lanes(const double lane[4]) {
-  return (lane[0] + lane[1]) + (lane[2] + lane[3]);
+  return energy_of_entry(l2, r.coefficient[k], r.inv_length[k]);
 }
 
 template <int Dim>
@@ -96,20 +103,28 @@ double energy_plain(std::int64_t i, const double* const y[3], const RowArrays& r
   return energy_plain_from<Dim>(i, r.start[i], y, r, lane);
 }
 
-template <int Dim, bool Fracture>
+template <int Dim, bool Fracture, bool Energy>
 std::int64_t row_plain(std::int64_t i, const Fields& x, const RowArrays& r, const Breaking& w) {
-  double lanes[Dim][4] = {};
-  const auto broken = plain_entries<Dim, Fracture>(i, r.start[i], x, r, w, lanes);
-  write_force<Dim>(i, x, lanes);
+  double lanes[Dim][4] = {}, energy_lanes[4] = {0.0, 0.0, 0.0, 0.0};
+  const auto broken =
+      plain_entries<Dim, Fracture, Energy>(i, r.start[i], x, r, w, lanes, energy_lanes);
+  write_force<Dim, Energy>(i, x, lanes, energy_lanes);
   return broken;
 }
 
 #ifdef DHPD_HAS_AVX2_BUILD
 #pragma GCC push_options
 #pragma GCC target("avx2")
-template <int Dim, bool Fracture>
+/// c s² |ξ| of four entries, 0 where c = 0 (the lanes of energy_of_entry).
+inline __m256d energy_of_entries(__m256d root_l2, __m256d c, __m256d inv) {
+  const __m256d s = _mm256_sub_pd(_mm256_mul_pd(root_l2, inv), _mm256_set1_pd(1.0));
+  const __m256d e = _mm256_div_pd(_mm256_mul_pd(_mm256_mul_pd(c, s), s), inv);
+  return _mm256_and_pd(e, _mm256_cmp_pd(c, _mm256_setzero_pd(), _CMP_NEQ_UQ));
+}
+
+template <int Dim, bool Fracture, bool Energy>
 std::int64_t row_avx2(std::int64_t i, const Fields& x, const RowArrays& r, const Breaking& w) {
-  __m256d yi[Dim], acc[Dim];
+  __m256d yi[Dim], acc[Dim], energy = _mm256_setzero_pd();
   for (int a = 0; a < Dim; ++a) yi[a] = _mm256_set1_pd(x.y[a][i]), acc[a] = _mm256_setzero_pd();
   const __m256d one = _mm256_set1_pd(1.0);
   std::int64_t broken = 0;
@@ -133,22 +148,24 @@ std::int64_t row_avx2(std::int64_t i, const Fields& x, const RowArrays& r, const
         broken += break_block(i, k, hit, l2s, w);
       }
     }
-    const __m256d q = _mm256_div_pd(one, _mm256_sqrt_pd(l2));
-    const __m256d s = _mm256_mul_pd(_mm256_loadu_pd(r.coefficient + k),
-                                    _mm256_sub_pd(_mm256_loadu_pd(r.inv_length + k), q));
+    const __m256d root = _mm256_sqrt_pd(l2), q = _mm256_div_pd(one, root);
+    const __m256d c = _mm256_loadu_pd(r.coefficient + k), inv = _mm256_loadu_pd(r.inv_length + k);
+    const __m256d s = _mm256_mul_pd(c, _mm256_sub_pd(inv, q));
     for (int a = 0; a < Dim; ++a) acc[a] = _mm256_add_pd(acc[a], _mm256_mul_pd(s, dx[a]));
+    if constexpr (Energy) energy = _mm256_add_pd(energy, energy_of_entries(root, c, inv));
   }
-  alignas(32) double lanes[Dim][4];
+  alignas(32) double lanes[Dim][4], energy_lanes[4];
   for (int a = 0; a < Dim; ++a) _mm256_store_pd(lanes[a], acc[a]);
-  broken += plain_entries<Dim, Fracture>(i, blocks_end, x, r, w, lanes);
-  write_force<Dim>(i, x, lanes);
+  _mm256_store_pd(energy_lanes, energy);
+  broken += plain_entries<Dim, Fracture, Energy>(i, blocks_end, x, r, w, lanes, energy_lanes);
+  write_force<Dim, Energy>(i, x, lanes, energy_lanes);
   return broken;
 }
 template <int Dim>
 double energy_avx2(std::int64_t i, const double* const y[3], const RowArrays& r) {
   __m256d yi[Dim];
   for (int a = 0; a < Dim; ++a) yi[a] = _mm256_set1_pd(y[a][i]);
-  const __m256d one = _mm256_set1_pd(1.0), zero = _mm256_setzero_pd();
+  const __m256d zero = _mm256_setzero_pd();
   __m256d acc = zero;
   const std::int64_t begin = r.start[i], end = begin + r.count[i];
   const std::int64_t blocks_end = begin + ((end - begin) & ~std::int64_t{3});
@@ -161,9 +178,7 @@ double energy_avx2(std::int64_t i, const double* const y[3], const RowArrays& r)
       l2 = _mm256_add_pd(l2, _mm256_mul_pd(d, d));
     }
     const __m256d c = _mm256_loadu_pd(r.coefficient + k), inv = _mm256_loadu_pd(r.inv_length + k);
-    const __m256d s = _mm256_sub_pd(_mm256_mul_pd(_mm256_sqrt_pd(l2), inv), one);
-    const __m256d e = _mm256_div_pd(_mm256_mul_pd(_mm256_mul_pd(c, s), s), inv);
-    acc = _mm256_add_pd(acc, _mm256_and_pd(e, _mm256_cmp_pd(c, zero, _CMP_NEQ_UQ)));
+    acc = _mm256_add_pd(acc, energy_of_entries(_mm256_sqrt_pd(l2), c, inv));
   }
   alignas(32) double lane[4];
   _mm256_store_pd(lane, acc);
@@ -182,13 +197,13 @@ bool avx2_available() {
 #endif
 }
 
-template <int Dim, bool Fracture>
+template <int Dim, bool Fracture, bool Energy>
 RowKernel row_kernel(Build build) {
 #ifdef DHPD_HAS_AVX2_BUILD
-  if (build == Build::Avx2 && avx2_available()) return row_avx2<Dim, Fracture>;
+  if (build == Build::Avx2 && avx2_available()) return row_avx2<Dim, Fracture, Energy>;
 #endif
   (void)build;
-  return row_plain<Dim, Fracture>;
+  return row_plain<Dim, Fracture, Energy>;
 }
 
 template <int Dim>
@@ -203,11 +218,17 @@ RowEnergy row_energy_kernel(Build build) {
 template RowEnergy row_energy_kernel<1>(Build);
 template RowEnergy row_energy_kernel<2>(Build);
 template RowEnergy row_energy_kernel<3>(Build);
-template RowKernel row_kernel<1, false>(Build);
-template RowKernel row_kernel<1, true>(Build);
-template RowKernel row_kernel<2, false>(Build);
-template RowKernel row_kernel<2, true>(Build);
-template RowKernel row_kernel<3, false>(Build);
-template RowKernel row_kernel<3, true>(Build);
+template RowKernel row_kernel<1, false, false>(Build);
+template RowKernel row_kernel<1, false, true>(Build);
+template RowKernel row_kernel<1, true, false>(Build);
+template RowKernel row_kernel<1, true, true>(Build);
+template RowKernel row_kernel<2, false, false>(Build);
+template RowKernel row_kernel<2, false, true>(Build);
+template RowKernel row_kernel<2, true, false>(Build);
+template RowKernel row_kernel<2, true, true>(Build);
+template RowKernel row_kernel<3, false, false>(Build);
+template RowKernel row_kernel<3, false, true>(Build);
+template RowKernel row_kernel<3, true, false>(Build);
+template RowKernel row_kernel<3, true, true>(Build);
 
 }  // namespace dhpd::kernel

@@ -34,14 +34,17 @@ struct Breaking {
   std::uint8_t* intact = nullptr;
 };
 
-/// Positions read and force densities written (the first Dim axes).
+/// Positions read and force densities written (the first Dim axes); the kernels with Energy also
+/// write each row's Σ_k c_k s_k² |ξ_k| (the sum RowEnergy returns) to energy[i].
 struct Fields {
   const double* y[3];
   double* f[3];
+  double* energy = nullptr;
 };
 
 /// Force density of row i; with Fracture, entries whose squared length reached their break_at go
-/// through break_entry first, on the same squared length. Returns the own bonds broken.
+/// through break_entry first, on the same squared length; with Energy, the row's energy after its
+/// break tests, the same bits as RowEnergy gives after the pass. Returns the own bonds broken.
 using RowKernel = std::int64_t (*)(std::int64_t i, const Fields& x, const RowArrays& r,
                                    const Breaking& w);
 
@@ -60,7 +63,7 @@ inline Build best_build() {
 }
 
 /// The row kernel of a build (Avx2 on a CPU without it falls back to Plain).
-template <int Dim, bool Fracture>
+template <int Dim, bool Fracture, bool Energy = false>
 RowKernel row_kernel(Build build);
 
 /// The row energy of a build (Avx2 on a CPU without it falls back to Plain).

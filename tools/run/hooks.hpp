@@ -37,6 +37,13 @@ class Schedule {
   bool finished(std::int64_t k, double t) const {
     return by_time_ ? t >= *s_.time.end * (1.0 - 1e-12) : k >= planned_;
   }
+  /// Whether frame(k, t) would say yes, without moving on (a forecast before step k).
+  bool frame_due(std::int64_t k, double t) const {
+    if (finished(k, t)) return true;
+    if (!by_time_) return next_ < steps_.size() && steps_[next_] == k;
+    if (s_.output.every) return k % *s_.output.every == 0;
+    return next_ < times_.size() && t >= times_[next_] * (1.0 - 1e-12);
+  }
   /// Whether step k (just done, at time t) writes a frame; call once per step.
   bool frame(std::int64_t k, double t) {
     if (finished(k, t)) return true;

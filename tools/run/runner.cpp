@@ -145,7 +145,10 @@ void time_loop(RunContext& ctx, io::Progress& progress) {
     }
   } forget{hook};
   for (std::int64_t k = first; !schedule.finished(k - 1, sim.time()); ++k) {
-    sim.step();
+    // A step that a history row or frame follows computes its strain energy in its force pass.
+    const bool records =
+        k % ctx.scene.output.history_every == 0 || schedule.frame_due(k, sim.time() + sim.dt());
+    sim.step({.strain_energy = records});
     // A signal already caught starts no refinement event: the run stops after this step.
     if (hook && hook->refiner.due(k) && !signals.caught()) {
       try {
