@@ -13,14 +13,9 @@
 #include <queue>
 #include <utility>
 
-#include "engine/discretization/neighbor_search.hpp"
-
 namespace dhpd::measure {
 namespace {
 
-/// Two damaged particles are linked within this many (larger) spacings: the lattice neighbours
-/// and diagonal neighbours (√2 Δx), not the next-but-one (2 Δx).
-constexpr double kLinkFactor = 1.5;
 /// At most this many clusters of a bin (the largest) enter the search for separated ones.
 constexpr std::size_t kMaxClusters = 24;
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
@@ -96,39 +91,6 @@ Branches separated_clusters(const std::vector<std::int32_t>& members,
 }
 
 }  // namespace
-
-DamageGraph damage_graph(const ParticleStore& p, double threshold) {
-  DamageGraph g;
-  double widest = 0.0;
-  for (std::size_t i = 0; i < p.size(); ++i)
-    if (p.damage[i] >= threshold) {
-      g.particle.push_back(static_cast<std::int32_t>(i));
-      widest = std::max(widest, p.spacing[i]);
-    }
-  g.offset.assign(1, 0);
-  if (g.particle.empty()) return g;
-  VectorArray points;
-  for (const auto i : g.particle)
-    for (int a = 0; a < 3; ++a) points[a].push_back(p.reference_position[a][i]);
-  const NeighborSearch search(points, p.dim());
-  // The search keeps |ξ| ≤ radius; the link rule keeps |ξ| ≤ 1.5 max(Δx): ask slightly wider.
-  const double reach = kLinkFactor * widest * (1.0 + 1e-9);
-  std::vector<std::int32_t> near;
-  for (std::size_t n = 0; n < g.size(); ++n) {
-    const auto i = static_cast<std::size_t>(g.particle[n]);
-    const Vec3 x = point_of(p.reference_position, i);
-    search.within(n, reach, near);
-    for (const auto m : near) {
-      const auto j = static_cast<std::size_t>(g.particle[m]);
-      const double d = geometry::norm(point_of(p.reference_position, j) - x);
-      if (d > kLinkFactor * std::max(p.spacing[i], p.spacing[j])) continue;
-      g.neighbor.push_back(m);
-      g.length.push_back(d);
-    }
-    g.offset.push_back(g.neighbor.size());
-  }
-  return g;
-}
 
 CrackPath crack_path(const DamageGraph& g, const ParticleStore& p, const Vec3& notch_tip,
                      const geometry::Shape* region) {
@@ -224,8 +186,11 @@ double rayleigh_speed_near(const ParticleStore& p, const std::vector<Material>& 
 
 CrackTracker::CrackTracker(Settings settings) : s_(std::move(settings)), tracks_(s_.tips.size()) {}
 
-std::vector<TipRow> CrackTracker::measure(const ParticleStore& p, std::int64_t step, double time) {
-  const DamageGraph g = damage_graph(p, s_.damage_threshold);
+std::vector<TipRow> CrackTracker::measure(const ParticleStore& p, std::int64_t step, double time,
+                                          const std::optional<Revision>& revision) {
+  DamageGraph built;
+  if (!revision) built = damage_graph(p, s_.damage_threshold);
+  const DamageGraph& g = revision ? graph_.update(p, *revision) : built;
   std::vector<TipRow> rows;
   for (std::size_t k = 0; k < s_.tips.size(); ++k) rows.push_back(measure_tip(g, p, k, step, time));
   return rows;

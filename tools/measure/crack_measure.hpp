@@ -10,6 +10,7 @@
 #include "engine/physics/material_law.hpp"
 #include "geometry/shapes.hpp"
 #include "geometry/vec.hpp"
+#include "tools/measure/damage_graph.hpp"
 
 namespace dhpd::measure {
 
@@ -82,19 +83,6 @@ struct CrackSummary {
   Vec3 tip{0, 0, 0};
 };
 
-/// The damaged set of one measurement as a graph: i, j linked when
-/// |X_i − X_j| ≤ 1.5 · max(Δx_i, Δx_j). Local indices; `particle` maps them to store slots.
-struct DamageGraph {
-  std::vector<std::int32_t> particle;
-  std::vector<std::size_t> offset;  ///< CSR: links of node n are [offset[n], offset[n+1])
-  std::vector<std::int32_t> neighbor;
-  std::vector<double> length;
-  std::size_t size() const { return particle.size(); }
-};
-
-/// The particles with φ ≥ threshold and their links.
-DamageGraph damage_graph(const ParticleStore& p, double threshold);
-
 /// The crack of one tip: the nodes reached from the particles within one horizon of the notch
 /// tip, with their path distance (seeded with the straight distance), and the farthest of them.
 /// With a `region`, only nodes inside it take part.
@@ -126,7 +114,10 @@ class CrackTracker {
   /// Whether step k is a measurement step (every `every` steps, from step 0).
   bool due(std::int64_t step) const { return step % s_.every == 0; }
   /// Measures every tip on the current damage of `p` (φ must be up to date); one row per tip.
-  std::vector<TipRow> measure(const ParticleStore& p, std::int64_t step, double time);
+  /// With the store's `revision`, the damage graph grows from the last measurement of the same
+  /// revision (GrowingDamageGraph); without, it is built anew. The rows are the same either way.
+  std::vector<TipRow> measure(const ParticleStore& p, std::int64_t step, double time,
+                              const std::optional<Revision>& revision = std::nullopt);
   /// One entry per tip, in the order of Settings::tips.
   std::vector<CrackSummary> summary() const;
 
@@ -170,6 +161,7 @@ class CrackTracker {
 
   Settings s_;
   std::vector<Track> tracks_;
+  GrowingDamageGraph graph_{s_.damage_threshold};  ///< a cache: not archived
 };
 
 /// Rayleigh speed (IJNME 2016 eq. 60) of the material of the particle nearest `at`.

@@ -107,7 +107,8 @@ struct CrackHook {
   }
   void take_measurement(Simulation& sim) {
     auto t = sim.timers().scope(Phase::Diagnostics);
-    for (const auto& row : tracker.measure(sim.particles(), sim.steps_done(), sim.time()))
+    const measure::Revision revision{sim.generation(), sim.layout_version()};
+    for (const auto& row : tracker.measure(sim.particles(), sim.steps_done(), sim.time(), revision))
       csv.write(row);
   }
   io::CrackReport report() const { return {rayleigh_speed, tracker.summary(), published}; }
