@@ -10,6 +10,7 @@
 
 #include "engine/base/errors.hpp"
 #include "engine/physics/bond_loops.hpp"
+#include "engine/physics/stable_step.hpp"
 
 namespace dhpd {
 
@@ -23,8 +24,11 @@ Simulation::Simulation(const SimulationSetup& setup) : setup_(setup), p_(setup.s
       initial_interfaces_ = correct_level_interfaces(bonds_, dual_, p_, C_, {});
     il_ = build_interactions(row_inputs());
   }
-  particle_time_steps(il_, p_, particle_dt_);
-  critical_dt_ = smallest(particle_dt_);
+  {
+    auto t = timers_.scope(Phase::Search);  // set-up, as the bonds
+    particle_time_steps(il_, p_, particle_dt_);
+    critical_dt_ = estimate_critical_dt();
+  }
   if (!std::isfinite(critical_dt_))
     throw InputError("no particle has a bond: the horizon factor or spacing is too small");
   dt_ = setup_.fixed_dt.value_or(setup_.safety * critical_dt_);
@@ -43,6 +47,13 @@ Simulation::Simulation(const SimulationSetup& setup) : setup_(setup), p_(setup.s
   budget_.observe(0.0);
   reach_ = BondRowBuilder::exact_reach(p_, setup_.partial_volume);
   for (std::size_t i = 0; i < p_.size(); ++i) max_horizon_ = std::max(max_horizon_, p_.horizon[i]);
+}
+
+double Simulation::estimate_critical_dt() const {
+  const double bound = smallest(particle_dt_);
+  if (setup_.stable_step == StableStepEstimate::ParticleBound || !std::isfinite(bound))
+    return bound;
+  return std::max(bound, lanczos_stable_step(il_, p_).dt);
 }
 
 void Simulation::init_particles() {

@@ -24,6 +24,15 @@ struct Effects {
   bool refinement = false;  ///< refine/ edits the discretisation during the run
 };
 
+/// How the run's stable step Δt_crit is found (docs/theory.md §9).
+enum class StableStepEstimate {
+  /// 2/ω_max of the linearised bond stiffness by Lanczos iteration (9.3): the tight step.
+  Lanczos,
+  /// The per-particle bound (9.1): always safe, 0.46–0.84 of the tight step (the default until
+  /// the paper cases are validated at the tight step, docs/theory.md §9).
+  ParticleBound,
+};
+
 /// Everything a run needs, already validated and in SI units.
 struct SimulationSetup {
   Section section;
@@ -39,6 +48,7 @@ struct SimulationSetup {
   Effects effects;
   double safety = 0.8;
   std::optional<double> fixed_dt;
+  StableStepEstimate stable_step = StableStepEstimate::ParticleBound;
   bool spatial_sort = true;  ///< Morton-order the particles (ids keep the generation order)
   /// The body's shape, when known: refinement creates no particle outside it.
   std::optional<geometry::Shape> body;
@@ -196,6 +206,9 @@ class Simulation {
   /// Throws InstabilityError; a NaN `energy` reports a non-finite state.
   [[noreturn]] void stop_unstable(const char* measured, double energy, double allowed,
                                   std::int64_t step, double time) const;
+  /// Δt_crit of the current rows by setup_.stable_step (particle_dt_ must be current); not below
+  /// the per-particle bound.
+  double estimate_critical_dt() const;
   /// Energies::verlet_correction of the current state (a pass over particles, not bonds).
   double verlet_correction() const;
 

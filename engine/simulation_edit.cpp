@@ -69,8 +69,8 @@ EditOutcome Simulation::commit_edit(const DiscretisationChange& change,
   const auto inputs = row_inputs();
   for (const auto i : dirty) rebuild_interaction_row(il_, static_cast<std::size_t>(i), inputs);
   particle_time_steps(il_, p_, particle_dt_, &dirty);
-  critical_dt_ = smallest(particle_dt_);  // one double per particle: cheap next to the rebuild
-  // A fixed step stays while it is stable; otherwise the scene's safety applies to the new bound.
+  critical_dt_ = estimate_critical_dt();
+  // A fixed step stays while it is stable; otherwise the scene's safety applies to the new step.
   const bool keep_fixed = setup_.fixed_dt && *setup_.fixed_dt <= critical_dt_;
   dt_ = keep_fixed ? *setup_.fixed_dt : setup_.safety * critical_dt_;
   inherit_loads(loads_, change.successor, change.predecessor);

@@ -17,9 +17,19 @@ struct PowerEstimate {
 
 /// Power iteration on M⁻¹K, K the stiffness of the rows linearised about the reference
 /// configuration: (K u)_i = −Σ_k K_k/|ξ_k| (e_k · (u_o − u_i)) e_k, e_k = ξ_k/|ξ_k|. Starts
-/// from ±1 per particle and axis (a hash of its slot: the same for any thread count),
+/// from ±1 per particle and axis (a hash of its reference position: the same for any thread
+/// count and any order of the slots),
 /// stops after `max_iterations` or when ω² changes by less than `tolerance`.
 PowerEstimate largest_stable_step(const InteractionList& il, const ParticleStore& p,
                                   int max_iterations = 200, double tolerance = 1e-5);
+
+/// The same estimate by Lanczos iteration in the mass inner product from the same start vector:
+/// the largest Ritz value (never above the true ω²) converges in tens of iterations where power
+/// iteration needs hundreds; stops when ω² changed by less than `tolerance` in an iteration (from
+/// the eighth on). `last_change` is that change. On the 16,000-particle glass plate ω² is within
+/// 0.2 % of its 100-iteration value after 20 iterations (the top of a PD spectrum is a dense
+/// cluster: the last digits come slowly), and the default stops near 35.
+PowerEstimate lanczos_stable_step(const InteractionList& il, const ParticleStore& p,
+                                  int max_iterations = 80, double tolerance = 1e-4);
 
 }  // namespace dhpd

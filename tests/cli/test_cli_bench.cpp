@@ -68,9 +68,11 @@ TEST_F(CliTest, CheckAndSummaryReportTheAllocatedBytes) {
   std::smatch dt;
   ASSERT_TRUE(std::regex_search(
       c.out, dt,
-      std::regex(R"(stable_step: \{bound: ([0-9.e+-]+), power_iteration: ([0-9.e+-]+),)")))
+      std::regex(
+          R"(stable_step: \{run: ([0-9.e+-]+), estimate: bound, bound: ([0-9.e+-]+), lanczos: ([0-9.e+-]+),)")))
       << c.out;
-  EXPECT_GT(std::stod(dt[2]), std::stod(dt[1]));  // the bound is conservative
+  EXPECT_EQ(dt[1], dt[2]);                              // the run uses the bound by default
+  EXPECT_GT(std::stod(dt[3]), 1.2 * std::stod(dt[2]));  // which is conservative
   const auto dir = run_plate("out", {});
   const auto j = read_json(dir / "summary.json");
   const auto& a = j.at("allocated_bytes");

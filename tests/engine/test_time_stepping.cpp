@@ -29,7 +29,8 @@ double energy_error(double safety, bool two_parts, int steps) {
 
 // Velocity-Verlet's energy error is O((ω dt)²) and bond-based PD puts much of a pulse's energy
 // near the highest frequency (its dispersion curve flattens), so the 0.1 % bound is met with
-// safety 0.25; at the default 0.8 the same plate oscillates by about 0.9 %.
+// safety 0.25 of the per-particle bound (0.15 of the Lanczos step, docs/theory.md §9); at the
+// default 0.8 the same plate oscillates by about 0.9 %.
 TEST(Energy, RingingPlateKeepsTotalEnergyFor5000Steps) {
   const double uniform = energy_error(0.25, false, 5000);
   const double graded = energy_error(0.25, true, 5000);

@@ -51,6 +51,7 @@ TEST(Refinement, SeparatedPlateStaysSeparatedAfterRefiningAroundTheCrack) {
   lift.region = Box{{0, 0.01, 0}, {0.05, 0.02, 0}};
   lift.displacement = geometry::Vec3{0, 1e-4, 0};
   s.initial_conditions = {lift};
+  s.fixed_dt = 1e-9;  // a short first step: the lifted state breaks the bonds, not its rebound
   Simulation sim(s);
   sim.step();
   const geometry::Crack line{{{0, 0.01, 0}, {0.05, 0.01, 0}}};

@@ -53,6 +53,7 @@ inline SimulationSetup lifted_block_3d() {
   lift.region = Box{{0, 0.004, 0}, {0.008, 0.008, 0.004}};
   lift.displacement = geometry::Vec3{0, 2e-5, 0};
   s.initial_conditions = {lift};
+  s.fixed_dt = 1e-9;  // a short first step: the lifted state breaks the bonds, not its rebound
   return s;
 }
 

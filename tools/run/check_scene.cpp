@@ -4,6 +4,7 @@
 
 #include <sstream>
 
+#include "engine/physics/bond_loops.hpp"
 #include "engine/physics/stable_step.hpp"
 #include "tools/run/runner.hpp"
 #include "tools/scene/build.hpp"
@@ -57,18 +58,14 @@ void check_scene(const scene::Scene& s, std::ostream& printed, bool build,
       "allocated: {{bytes: {}, per_particle: {:.0f}, per_directed_bond: {:.1f}, bonds: {}, "
       "rows: {}, dual_lists: {}, particle_fields: {}, other: {}}}\n",
       m.total(), m.total() / n, m.total() / bonds, m.bonds, m.rows, m.dual, m.particles, m.other);
-  // The tight step of the linearised stiffness, shown beside the bound the run uses (issue 15).
-  // Each iteration costs about one force pass: bodies past kPowerIterationBonds skip it.
-  constexpr double kPowerIterationBonds = 2e7;
-  if (bonds > kPowerIterationBonds) {
-    out << fmt::format("stable_step: {{bound: {:.6g}, power_iteration: skipped ({:.3g} bonds)}}\n",
-                       sim->critical_dt(), bonds);
-  } else {
-    const auto power = largest_stable_step(sim->interactions(), sim->particles());
-    out << fmt::format(
-        "stable_step: {{bound: {:.6g}, power_iteration: {:.6g}, ratio: {:.3f}, iterations: {}}}\n",
-        sim->critical_dt(), power.dt, power.dt / sim->critical_dt(), power.iterations);
-  }
+  // The run's stable step (time.stable_step, docs/theory.md §9) beside both estimates.
+  const double bound = critical_time_step(sim->interactions(), sim->particles());
+  const bool tight = s.time.stable_step == StableStepEstimate::Lanczos;
+  const double lanczos =
+      tight ? sim->critical_dt() : lanczos_stable_step(sim->interactions(), sim->particles()).dt;
+  out << fmt::format(
+      "stable_step: {{run: {:.6g}, estimate: {}, bound: {:.6g}, lanczos: {:.6g}, ratio: {:.3f}}}\n",
+      sim->critical_dt(), tight ? "lanczos" : "bound", bound, lanczos, lanczos / bound);
   printed << out.str();
 }
 

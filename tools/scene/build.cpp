@@ -169,6 +169,7 @@ SimulationSetup build_setup(const Scene& s) {
   if (!shapes.empty())
     setup.body = shapes.size() == 1 ? shapes.front() : geometry::Shape::union_of(shapes);
   setup.safety = s.time.safety;
+  setup.stable_step = s.time.stable_step;
   setup.fixed_dt = s.time.dt;
   setup.energy_tolerance = s.time.energy_tolerance;
   return setup;

@@ -212,6 +212,8 @@ void emit_time(YAML::Emitter& out, const TimeSpec& time) {
   out << YAML::Key << "safety" << YAML::Value << number_text(time.safety);
   if (time.dt) out << YAML::Key << "dt" << YAML::Value << number_text(*time.dt);
   out << YAML::Key << "check_dt" << YAML::Value << time.check_dt;
+  out << YAML::Key << "stable_step" << YAML::Value
+      << (time.stable_step == StableStepEstimate::Lanczos ? "lanczos" : "bound");
   out << YAML::Key << "energy_tolerance" << YAML::Value << number_text(time.energy_tolerance);
   out << YAML::EndMap;
 }

@@ -185,7 +185,8 @@ void read_discretisation(const MapView& top, Scene& s) {
 }
 
 TimeSpec read_time(const Cursor& c) {
-  const MapView map(c, {"end", "steps", "safety", "dt", "check_dt", "energy_tolerance"});
+  const MapView map(
+      c, {"end", "steps", "safety", "dt", "check_dt", "stable_step", "energy_tolerance"});
   TimeSpec time;
   time.where = c.where();
   if (map.has("end") == map.has("steps")) {
@@ -198,6 +199,9 @@ TimeSpec read_time(const Cursor& c) {
   if (const auto safety = map.get("safety")) time.safety = detail::safety_factor(*safety);
   if (const auto dt = map.get("dt")) time.dt = detail::positive_number(*dt);
   if (const auto check = map.get("check_dt")) time.check_dt = check->boolean();
+  if (const auto step = map.get("stable_step"))
+    time.stable_step = step->choice({"lanczos", "bound"}) == 0 ? StableStepEstimate::Lanczos
+                                                               : StableStepEstimate::ParticleBound;
   if (const auto tol = map.get("energy_tolerance")) {
     time.energy_tolerance = detail::positive_number(*tol);
     if (time.energy_tolerance > 1.0)
