@@ -63,6 +63,7 @@ dimension than the reference (a 3D plate against a 2D reference) gets only angle
 initiation; tip_path, damage and l2_displacement compare positions and are left empty.
 """
 import argparse
+import hashlib
 import itertools
 import json
 import os
@@ -164,10 +165,26 @@ def mirror_spread(paths, mirror):
     return float(max(distance_to_polyline(a, b_m).max(), distance_to_polyline(b, a_m).max()))
 
 
-def variant_record(case, overrides, threads):
-    """What makes a variant's run: its scene file, overrides and threads (JSON-normalised)."""
+def file_sha256(path):
+    """SHA-256 of a file's bytes (None when it cannot be read)."""
+    digest = hashlib.sha256()
+    try:
+        with open(path, "rb") as f:
+            for block in iter(lambda: f.read(1 << 20), b""):
+                digest.update(block)
+    except OSError:
+        return None
+    return digest.hexdigest()
+
+
+def variant_record(case, overrides, threads, dhpd):
+    """What makes a variant's run (JSON-normalised): its scene file and that file's content, the
+    overrides, the threads and the dhpd executable's content (a rebuilt engine or an edited
+    scene runs again; files the scene refers to are not hashed)."""
+    engine = shutil.which(dhpd) or dhpd
     return json.loads(json.dumps({"case": os.path.abspath(case), "overrides": overrides,
-                                  "threads": threads}))
+                                  "threads": threads, "scene_sha256": file_sha256(case),
+                                  "dhpd_sha256": file_sha256(engine)}))
 
 
 def earlier_run(out_dir, record):
@@ -190,7 +207,7 @@ def earlier_run(out_dir, record):
 def run_one(dhpd, case, overrides, out_dir, threads):
     """Runs one variant, or reuses its earlier completed run in out_dir; returns its summary and
     result (wall seconds, peak memory in MiB and its source, reused)."""
-    record = variant_record(case, overrides, threads)
+    record = variant_record(case, overrides, threads, dhpd)
     earlier = earlier_run(out_dir, record)
     if earlier is not None:
         summary, result = earlier

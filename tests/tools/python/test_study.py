@@ -20,6 +20,7 @@ support.import_tools()
 import numpy as np  # noqa: E402
 
 import launch  # noqa: E402
+import study as study_tool  # noqa: E402
 import study_report  # noqa: E402
 
 BALLAST_MIB = 300
@@ -220,6 +221,27 @@ class Resume(unittest.TestCase):
         support.write(record, json.dumps(data))
         study(out, log)
         self.assertEqual([os.path.basename(o) for _, o in calls(log)], ["run-reference"])
+
+    def test_an_edited_scene_or_a_rebuilt_engine_is_not_reused(self):
+        out, log = self.copy("rebuilt"), WORK("rebuilt-log")
+        for folder, key in (("run-reference", "scene_sha256"), ("run-01", "dhpd_sha256")):
+            record = os.path.join(out, folder, "study_variant.json")
+            data = json.loads(support.read(record))
+            self.assertEqual(len(data[key]), 64)  # recorded when the run was made
+            data[key] = "0" * 64
+            support.write(record, json.dumps(data))
+        study(out, log)
+        self.assertEqual(sorted(os.path.basename(o) for _, o in calls(log)),
+                         ["run-01", "run-reference"])
+
+    def test_the_record_follows_the_scene_files_content(self):
+        scene = WORK("record-scene.yaml")
+        support.write(scene, "name: a\n")
+        first = study_tool.variant_record(scene, {}, None, sys.executable)
+        support.write(scene, "name: b\n")
+        second = study_tool.variant_record(scene, {}, None, sys.executable)
+        self.assertNotEqual(first["scene_sha256"], second["scene_sha256"])
+        self.assertEqual(first["dhpd_sha256"], second["dhpd_sha256"])
 
 
 def row(label, wall, **metrics):
