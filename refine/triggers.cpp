@@ -44,8 +44,9 @@ std::vector<double> max_bond_stretch(const Simulation& sim) {
   return out;
 }
 
-std::vector<std::uint8_t> near_a_crack(const Simulation& sim, double horizons,
+std::vector<std::uint8_t> near_a_crack(const Simulation& sim, CrackReach reach_horizons,
                                        std::vector<std::uint8_t> asked) {
+  const double horizons = reach_horizons.running;
   const auto& p = sim.particles();
   const int dim = p.dim();
   const auto& body = sim.setup().body;
@@ -60,27 +61,44 @@ std::vector<std::uint8_t> near_a_crack(const Simulation& sim, double horizons,
   // Damaged particles first, then every particle: a query around particle i finds the damaged
   // ones among the indices below `damaged`.
   VectorArray points;
-  std::size_t damaged = 0;
+  std::vector<double> damaged_horizon;
   for (int pass = 0; pass < 2; ++pass)
     for (std::size_t i = 0; i < p.size(); ++i)
       if (pass == 1 || p.damage[i] >= kFrontDamage) {
         for (int a = 0; a < 3; ++a) points[a].push_back(p.reference_position[a][i]);
-        damaged += pass == 0 ? 1 : 0;
+        if (pass == 0) damaged_horizon.push_back(p.horizon[i]);
       }
+  const std::size_t damaged = damaged_horizon.size();
+  const double widest =
+      damaged > 0 ? *std::max_element(damaged_horizon.begin(), damaged_horizon.end()) : 0.0;
   auto& out = asked;
   const std::unique_ptr<NeighborSearch> search =
       damaged > 0 ? std::make_unique<NeighborSearch>(points, dim) : nullptr;
   std::vector<std::int32_t> found;
+  const auto near_damage = [&](std::size_t i) {
+    // A running crack's reach is counted in the damaged particle's own horizon: a refined tip
+    // (δ/2) pulls in a band half as wide as a coarse one would (docs/theory.md §13.1).
+    search->within(damaged + i, horizons * widest, found);
+    for (const auto j : found) {
+      if (j >= static_cast<std::int32_t>(damaged)) break;
+      const auto uj = static_cast<std::size_t>(j);
+      double d2 = 0.0;
+      for (int a = 0; a < dim; ++a) {
+        const double d = points[a][uj] - points[a][damaged + i];
+        d2 += d * d;
+      }
+      const double reach = horizons * damaged_horizon[uj];
+      if (d2 <= reach * reach) return true;
+    }
+    return false;
+  };
   for (std::size_t i = 0; i < p.size(); ++i) {
     if (!out[i]) continue;
-    const double reach = horizons * p.horizon[i];
+    const double reach = reach_horizons.precrack * p.horizon[i];
     const auto x = point_of(p.reference_position, i);
     bool near = false;
     for (const auto& f : fronts) near = near || geometry::distance_to(f, x) <= reach;
-    if (!near && search) {
-      search->within(damaged + i, reach, found);
-      near = !found.empty() && found.front() < static_cast<std::int32_t>(damaged);
-    }
+    if (!near && search) near = near_damage(i);
     out[i] = near ? 1 : 0;
   }
   return out;
@@ -105,7 +123,9 @@ std::vector<std::uint8_t> triggered(const Simulation& sim, const Triggers& t) {
     std::vector<std::uint8_t> over(n, 0);
     for (std::size_t i = 0; i < n; ++i)
       over[i] = !out[i] && s[i] >= *t.stretch * sim.critical_stretch()[i] ? 1 : 0;
-    if (t.near_crack) over = near_a_crack(sim, *t.near_crack, std::move(over));
+    if (t.near_crack)
+      over = near_a_crack(sim, {*t.near_crack, t.near_precrack.value_or(*t.near_crack)},
+                          std::move(over));
     for (std::size_t i = 0; i < n; ++i) out[i] = out[i] || over[i];
   }
   return out;

@@ -15,20 +15,31 @@ struct Triggers {
   std::optional<double> damage;   ///< φ_i ≥ φ*
   std::optional<double> energy;   ///< W_i ≥ w* · W_crit,i
   std::optional<double> stretch;  ///< max over intact own bonds of s ≥ s* · s0_i
-  /// The stretch trigger counts only within this many horizons (δ_i) of a crack front: a
-  /// pre-crack's end or edge inside the body, or a particle damaged to kFrontDamage. So a notch
-  /// tip is refined before its first bond breaks, but not an impact zone far from any crack.
+  /// The stretch trigger counts only near a crack front: within this many horizons of a
+  /// particle damaged to kFrontDamage (counted in that particle's own horizon δ_j, so a refined
+  /// tip pulls in a band as narrow as its own horizon), or within near_precrack horizons (δ_i) of
+  /// a pre-crack's end or edge inside the body. So a notch tip is refined before its first bond
+  /// breaks, but not an impact zone far from any crack.
   std::optional<double> near_crack;
+  /// The reach around pre-cracks' fronts, in horizons δ_i of the particle asked; near_crack's
+  /// value when absent. A notch starts its crack from the singular field around it, which needs
+  /// a wider refined zone before initiation than a running tip does.
+  std::optional<double> near_precrack;
   bool any() const { return damage || energy || stretch; }
 };
 
 /// Damage that makes a particle part of a running crack's front for `near_crack`.
 inline constexpr double kFrontDamage = 0.2;
 
-/// Of the particles marked in `asked`, 1 for those within `horizons` × δ_i of a crack front
-/// (pre-crack fronts of the setup's cracks, particles with φ ≥ kFrontDamage; damage as last
-/// computed), 0 for the others.
-std::vector<std::uint8_t> near_a_crack(const Simulation& sim, double horizons,
+/// How far the `near_crack` test reaches, in horizons.
+struct CrackReach {
+  double running;  ///< from a particle j with φ_j ≥ kFrontDamage: |X_i − X_j| ≤ running · δ_j
+  double precrack;  ///< from a front of the setup's cracks: distance ≤ precrack · δ_i
+};
+
+/// Of the particles marked in `asked`, 1 for those within reach of a crack front (damage as
+/// last computed), 0 for the others.
+std::vector<std::uint8_t> near_a_crack(const Simulation& sim, CrackReach reach,
                                        std::vector<std::uint8_t> asked);
 
 /// W_crit,i: the DH-PD strain-energy density of particle i when every bond of its horizon is at

@@ -330,6 +330,13 @@ const std::vector<BadScene> kBadScenes = {
     {"RefinementNearCrackAlone", plus("effects:\n  refinement: {trigger: {near_crack: 2}}"),
      "bad.yaml:9: effects.refinement.trigger.near_crack: near_crack limits the stretch trigger, "
      "which is not given (allowed: stretch with it)"},
+    {"RefinementNearPrecrackAlone",
+     plus("effects:\n  refinement: {trigger: {stretch: 0.3, near_precrack: 2}}"),
+     "bad.yaml:9: effects.refinement.trigger.near_precrack: near_precrack widens near_crack around "
+     "pre-cracks, but near_crack is not given (allowed: near_crack (and stretch) with it)"},
+    {"RefinementNearPrecrackNegative",
+     plus("effects:\n  refinement: {trigger: {stretch: 0.3, near_crack: 1, near_precrack: -2}}"),
+     "bad.yaml:9: effects.refinement.trigger.near_precrack: "},
     {"RefinementUnknownMapping", plus("effects:\n  refinement: {mapping: cubic}"),
      "bad.yaml:9: effects.refinement.mapping: "},
     {"RefinementUnknownKey", plus("effects:\n  refinement: {trigger: {damage: 0.1}, bufer: 1}"),

@@ -2,13 +2,17 @@
 """Runs one full paper case and checks its summary.json against the published ranges (issue 5).
 
     check_case.py --dhpd BIN --out DIR CASE.yaml --range KEY MIN MAX [--range ...] [--below KEY KEY]
+                  [--clean-events-before T]
 
 KEY is a path into summary.json: `particles_end`, `cracks.0.angle_deg`, `cracks.1.initiation_time`,
 `cracks.0.branch_times.0`, `rayleigh_speed`. `--below A B` asserts A < B (tip speed below c_R).
+`--clean-events-before T` asserts that at least one refinement event happened before T s and that
+none of them started a bond broken (refinement.csv: started_broken and started_overstretched 0).
 These runs take minutes, so they carry the ctest label `verification` and `tools/dhpd test`
 leaves them out; run them with `ctest --test-dir build -L verification`.
 """
 import argparse
+import csv
 import json
 import os
 import subprocess
@@ -22,6 +26,17 @@ def value(summary, key):
     return node
 
 
+def clean_events(out, before):
+    """Failures unless the events before `before` exist and start no bond broken."""
+    with open(os.path.join(out, "refinement.csv")) as f:
+        early = [r for r in csv.DictReader(f) if float(r["time"]) < before]
+    broken = sum(int(r["started_broken"]) + int(r["started_overstretched"]) for r in early)
+    ok = len(early) > 0 and broken == 0
+    print(f"events before {before} s: {len(early)}, bonds started broken {broken} "
+          f"{'ok' if ok else 'FAILED'}")
+    return [] if ok else ["events before initiation"]
+
+
 def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("case")
@@ -30,6 +45,7 @@ def main():
     parser.add_argument("--range", nargs=3, action="append", default=[],
                         metavar=("KEY", "MIN", "MAX"))
     parser.add_argument("--below", nargs=2, action="append", default=[], metavar=("A", "B"))
+    parser.add_argument("--clean-events-before", type=float, metavar="T")
     args = parser.parse_args()
     run = subprocess.run([args.dhpd, "run", args.case, "--out", args.out, "--quiet"])
     if run.returncode != 0:
@@ -47,6 +63,8 @@ def main():
         ok = va is not None and vb is not None and va < vb
         print(f"{a} = {va} < {b} = {vb} {'ok' if ok else 'FAILED'}")
         failures += [] if ok else [a]
+    if args.clean_events_before is not None:
+        failures += clean_events(args.out, args.clean_events_before)
     if failures:
         sys.exit(f"{args.case}: out of range: {', '.join(failures)}")
 

@@ -252,6 +252,8 @@ void emit_effects(YAML::Emitter& out, const Scene& s) {
       out << YAML::Key << "stretch" << YAML::Value << number_text(*r.trigger.stretch);
     if (r.trigger.near_crack)
       out << YAML::Key << "near_crack" << YAML::Value << number_text(*r.trigger.near_crack);
+    if (r.trigger.near_precrack)
+      out << YAML::Key << "near_precrack" << YAML::Value << number_text(*r.trigger.near_precrack);
     out << YAML::EndMap;
   }
   out << YAML::Key << "buffer" << YAML::Value << number_text(r.buffer);

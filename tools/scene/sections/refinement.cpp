@@ -21,7 +21,7 @@ double fraction_up_to_one(const Cursor& c, std::string_view what) {
 }
 
 refine::Triggers read_triggers(const Cursor& c) {
-  const MapView m(c, {"damage", "energy", "stretch", "near_crack"});
+  const MapView m(c, {"damage", "energy", "stretch", "near_crack", "near_precrack"});
   refine::Triggers t;
   if (const auto v = m.get("damage")) t.damage = fraction_up_to_one(*v, "damage");
   if (const auto v = m.get("energy")) t.energy = positive_number(*v);
@@ -30,6 +30,12 @@ refine::Triggers read_triggers(const Cursor& c) {
     if (!t.stretch)
       v->fail("near_crack limits the stretch trigger, which is not given", "stretch with it");
     t.near_crack = positive_number(*v);
+  }
+  if (const auto v = m.get("near_precrack")) {
+    if (!t.near_crack)
+      v->fail("near_precrack widens near_crack around pre-cracks, but near_crack is not given",
+              "near_crack (and stretch) with it");
+    t.near_precrack = positive_number(*v);
   }
   if (!t.any()) c.fail("trigger needs at least one threshold", "damage, energy, stretch");
   return t;
