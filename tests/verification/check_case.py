@@ -47,7 +47,8 @@ def main():
     parser.add_argument("--below", nargs=2, action="append", default=[], metavar=("A", "B"))
     parser.add_argument("--clean-events-before", type=float, metavar="T")
     args = parser.parse_args()
-    run = subprocess.run([args.dhpd, "run", args.case, "--out", args.out, "--quiet"])
+    # --overwrite: a second `ctest -L verification` replaces the previous run of the case.
+    run = subprocess.run([args.dhpd, "run", args.case, "--out", args.out, "--quiet", "--overwrite"])
     if run.returncode != 0:
         sys.exit(f"{args.case}: dhpd run failed with exit code {run.returncode}")
     with open(os.path.join(args.out, "summary.json")) as f:
