@@ -13,16 +13,15 @@ std::vector<std::int32_t> intact_own_bonds(const Simulation& sim) {
   const auto& b = sim.bonds();
   std::vector<std::int32_t> count(sim.particles().size(), 0);
   for (std::size_t i = 0; i < count.size(); ++i)
-    for (auto k = b.begin(i); k < b.end(i); ++k) count[i] += b.intact[k];
+    for (auto k = b.begin(i); k < b.end(i); ++k) count[i] += b.own_intact(k) ? 1 : 0;
   return count;
 }
 
 std::vector<std::int32_t> intact_dual_bonds(const Simulation& sim) {
   const auto& b = sim.bonds();
-  const auto& d = sim.dual();
   std::vector<std::int32_t> count(sim.particles().size(), 0);
   for (std::size_t i = 0; i < count.size(); ++i)
-    for (auto k = d.begin(i); k < d.end(i); ++k) count[i] += b.intact[d.bond[k]];
+    for (auto k = b.begin(i); k < b.end(i); ++k) count[i] += b.dual_intact(k) ? 1 : 0;
   return count;
 }
 
@@ -36,7 +35,7 @@ const Derived kDerived[] = {
     {{"strain_energy_density", "J/m^3", "strain-energy density W_i of the own bonds", false},
      [](Simulation& sim) {
        std::vector<double> w;
-       strain_energy_density(sim.bonds(), sim.particles(), sim.micromodulus(), w);
+       strain_energy_density(sim.bonds(), sim.bond_constants(), w);
        return FieldValues{1, std::move(w)};
      }},
     {{"bond_count", "-", "intact own bonds", false},
@@ -60,7 +59,8 @@ const Derived kDerived[] = {
       false},
      [](Simulation& sim) {
        std::vector<double> q;
-       horizon_quadrature(sim.bonds(), sim.particles(), sim.setup().section, q);
+       horizon_quadrature(sim.bonds(), sim.particles(), sim.setup().partial_volume,
+                          sim.setup().section, q);
        return FieldValues{1, std::move(q)};
      }},
 };

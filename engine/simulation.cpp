@@ -18,15 +18,14 @@ Simulation::Simulation(const SimulationSetup& setup) : setup_(setup), p_(setup.s
   {
     auto t = timers_.scope(Phase::Search);
     init_particles();
-    bonds_ = build_bonds(p_, setup_.partial_volume, setup_.cracks);
-    dual_ = build_dual(bonds_);
+    bonds_ = build_bond_rows(p_, setup_.partial_volume, setup_.cracks);
     if (corrects_interfaces())
-      initial_interfaces_ = correct_level_interfaces(bonds_, dual_, p_, C_, {});
-    il_ = build_interactions(row_inputs());
+      initial_interfaces_ = correct_level_interfaces(bonds_, p_, setup_.partial_volume, C_, {});
+    refresh_rows(bonds_, bond_constants(), true);
   }
   {
     auto t = timers_.scope(Phase::Search);  // set-up, as the bonds
-    particle_time_steps(il_, p_, particle_dt_);
+    particle_time_steps(bonds_, p_, particle_dt_);
     critical_dt_ = estimate_critical_dt();
   }
   if (!std::isfinite(critical_dt_))
@@ -35,7 +34,8 @@ Simulation::Simulation(const SimulationSetup& setup) : setup_(setup), p_(setup.s
   loads_ = resolve_loads(setup_.boundary_conditions, p_);
   enforce_prescribed_velocity();
   compute_forces();
-  if (setup_.effects.fracture) compute_damage(bonds_, p_);  // then kept current by each step
+  if (setup_.effects.fracture)
+    compute_damage(bonds_, p_, setup_.partial_volume);  // then kept current by each step
   last_power_ = boundary_power();
   const auto e = energies();
   budget_.tolerance = setup_.energy_tolerance;
@@ -53,7 +53,7 @@ double Simulation::estimate_critical_dt() const {
   const double bound = smallest(particle_dt_);
   if (setup_.stable_step == StableStepEstimate::ParticleBound || !std::isfinite(bound))
     return bound;
-  return std::max(bound, lanczos_stable_step(il_, p_).dt);
+  return std::max(bound, lanczos_stable_step(bonds_, p_).dt);
 }
 
 void Simulation::init_particles() {
@@ -107,17 +107,17 @@ void Simulation::update_bond_constants(const std::vector<std::int32_t>& slots) {
   }
 }
 
-RowInputs Simulation::row_inputs() const {
-  return {setup_.model, bonds_, dual_, p_, C_, s0_};
+BondConstants Simulation::bond_constants() const {
+  return {setup_.model, setup_.partial_volume, p_, C_, s0_};
 }
 
 void Simulation::compute_forces(bool with_fracture, std::vector<double>* row_energy) {
   {
     auto t = timers_.scope(Phase::Forces);
     if (with_fracture)
-      broken_ += force_and_break(il_, bonds_, p_, row_inputs(), row_energy);
+      broken_ += force_and_break(bonds_, p_, bond_constants(), row_energy);
     else
-      internal_force_density(il_, p_, nullptr, row_energy);
+      internal_force_density(bonds_, p_, nullptr, row_energy);
   }
   auto t = timers_.scope(Phase::Loads);
   for (std::size_t k = 0; k < loads_.loaded.size(); ++k)
@@ -195,7 +195,7 @@ void Simulation::step(StepExtras extras) {
   last_power_ = power;
   time_ += dt_;
   ++steps_;
-  bond_updates_ += static_cast<std::int64_t>(bonds_.size());
+  bond_updates_ += bonds_.own_bonds;
   if (extras.strain_energy) {
     auto t = timers_.scope(Phase::Diagnostics);
     fused_energy_.strain = strain_energy_of_row_sums(fused_energy_.rows, p_);
@@ -221,7 +221,7 @@ Energies Simulation::energies() {
     kin[i] = 0.5 * p_.density[i] * p_.volume[i] * v2;
   }
   e.kinetic = ordered_sum(kin);
-  e.strain = strain_energy_from_step() ? fused_energy_.strain : strain_energy_total(il_, p_);
+  e.strain = strain_energy_from_step() ? fused_energy_.strain : strain_energy_total(bonds_, p_);
   e.external_work = external_work_;
   e.verlet_correction = verlet_correction();
   return e;
@@ -269,15 +269,15 @@ void Simulation::stop_unstable(const char* measured, double energy, double allow
   f.measured = measured;
   f.energy = energy;
   f.allowed = allowed;
-  throw InstabilityError(describe_instability(f, p_, particle_dt_, bonds_.rows.count));
+  std::vector<std::int32_t> own(p_.size());
+  for (std::size_t i = 0; i < own.size(); ++i) own[i] = bonds_.own_count(i);
+  throw InstabilityError(describe_instability(f, p_, particle_dt_, own));
 }
 
 Simulation::MemoryUse Simulation::memory_use() const {
   MemoryUse m;
   m.particles = p_.bytes();
   m.bonds = bonds_.bytes();
-  m.dual = dual_.bytes();
-  m.rows = il_.bytes();
   for (const auto* v : {&C_, &s0_, &particle_dt_, &kinetic_blocks_, &fused_energy_.rows})
     m.other += v->capacity() * sizeof(double);
   m.other += touched_.capacity();

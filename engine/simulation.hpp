@@ -1,4 +1,4 @@
-// The explicit DH-PD time stepper: owns particles, bonds, interaction rows and loads.
+// The explicit DH-PD time stepper: owns particles, bond rows and loads.
 // Velocity-Verlet (IJNME 2016 §4); only the effects the setup declares are assembled.
 #pragma once
 #include <cstdint>
@@ -72,7 +72,7 @@ struct DiscretisationChange {
   std::vector<std::int32_t> new_particles;
   /// Owners whose bond rows the editor rewrote, ascending (their damage is recomputed).
   std::vector<std::int32_t> rewritten_rows;
-  /// Every particle whose own or dual bond rows changed, ascending: their interaction rows, level
+  /// Every particle whose bond row changed (own or dual side), ascending: their stiffness, level
   /// interface factors, stable steps and forces are derived again.
   std::vector<std::int32_t> changed_rows;
   /// successor[k] takes over the loads (a traction's body force, a prescribed velocity) of the
@@ -130,14 +130,13 @@ class Simulation {
 
   /// The edit seam (refine/ uses it; docs/design.md): begin_edit records the energy of the rows
   /// an edit may change (strain energy of `energy_rows`, kinetic energy of `moving`); the editor
-  /// then rewrites the store, the bond rows and the dual rows it names, calls particles_written
-  /// for particles it wrote (bond constants, row arenas), and commit_edit(change) derives the
-  /// interaction rows, level-interface factors, stable steps and time step, loads, forces, damage
-  /// and the energy ledger of the changed rows, and counts one more generation.
+  /// then rewrites the store and the bond rows (replace_own_bonds), calls particles_written for
+  /// particles it wrote (bond constants, row arenas), and commit_edit(change) derives the
+  /// stiffness, level-interface factors, stable steps and time step, loads, forces, damage and the
+  /// energy ledger of the changed rows, and counts one more generation.
   struct Discretisation {
     ParticleStore& particles;
-    BondList& bonds;
-    DualList& dual;
+    BondRows& bonds;
   };
   Discretisation begin_edit(std::vector<std::int32_t> energy_rows,
                             const std::vector<std::int32_t>& moving);
@@ -145,7 +144,7 @@ class Simulation {
   EditOutcome commit_edit(const DiscretisationChange& change, std::int64_t broken_bonds_change);
   /// The first of `n` new particle ids (ids are never reused).
   std::int32_t take_ids(std::size_t n);
-  /// Renumbers the store in Morton order and compacts every row array (bonds keep their states);
+  /// Renumbers the store in Morton order and compacts the bond rows (bonds keep their states);
   /// the layout version changes. Returns the seconds it took.
   double compact();
   /// Changes whenever slots are renumbered (compact): anything indexed by slot must be rebuilt.
@@ -163,17 +162,18 @@ class Simulation {
 
   /// Bytes the simulation holds, by part (capacities of its arrays: what the allocator gave).
   struct MemoryUse {
-    std::size_t particles = 0, bonds = 0, dual = 0, rows = 0, other = 0;
-    std::size_t total() const { return particles + bonds + dual + rows + other; }
+    std::size_t particles = 0, bonds = 0, other = 0;
+    std::size_t total() const { return particles + bonds + other; }
   };
   MemoryUse memory_use() const;
 
   /// The particles; with fracture on, their damage is always that of the current bonds (§8).
   const ParticleStore& particles() const { return p_; }
   ParticleStore& particles() { return p_; }
-  const BondList& bonds() const { return bonds_; }
-  const DualList& dual() const { return dual_; }
-  const InteractionList& interactions() const { return il_; }
+  /// The bond rows: every bond, own and dual, with its state (engine/discretization/bonds.hpp).
+  const BondRows& bonds() const { return bonds_; }
+  /// What the stiffness and break tests read (valid while the simulation lives).
+  BondConstants bond_constants() const;
   const std::vector<double>& micromodulus() const { return C_; }
   const std::vector<double>& critical_stretch() const { return s0_; }
   const SimulationSetup& setup() const { return setup_; }
@@ -189,7 +189,7 @@ class Simulation {
   bool dt_is_stable() const { return dt_ <= critical_dt_; }
   std::int64_t steps_done() const { return steps_; }
   std::int64_t broken_bonds() const { return broken_; }
-  /// Directed bonds evaluated so far (live bonds summed over the steps): the benchmark's unit.
+  /// Directed bonds evaluated so far (own bonds summed over the steps): the benchmark's unit.
   std::int64_t bond_updates() const { return bond_updates_; }
 
  private:
@@ -200,7 +200,6 @@ class Simulation {
   /// Internal force densities plus body forces; with fracture, bonds break in the same pass.
   /// With `row_energy`, the pass also leaves each row's energy sum there (force kernels, Energy).
   void compute_forces(bool with_fracture = false, std::vector<double>* row_energy = nullptr);
-  RowInputs row_inputs() const;
   void enforce_prescribed_velocity();
   double boundary_power() const;
   /// Throws InstabilityError; a NaN `energy` reports a non-finite state.
@@ -214,9 +213,7 @@ class Simulation {
 
   SimulationSetup setup_;
   ParticleStore p_;
-  BondList bonds_;
-  DualList dual_;
-  InteractionList il_;
+  BondRows bonds_;
   ResolvedLoads loads_;
   std::vector<double> C_, s0_;
   std::vector<double> particle_dt_;  ///< stable step of each particle's row (docs/theory.md §9)

@@ -1,5 +1,5 @@
 // The edit seam of the stepper (docs/design.md): an editor (refine/) rewrites particles and bond
-// rows; the engine derives interaction rows, constants, stable steps, loads, forces, damage and
+// rows; the engine derives the rows' stiffness, constants, stable steps, loads, forces, damage and
 // the energy ledger of what changed; and compaction renumbers everything in Morton order.
 #include <algorithm>
 #include <chrono>
@@ -31,12 +31,11 @@ Simulation::Discretisation Simulation::begin_edit(std::vector<std::int32_t> ener
         "not constant-horizon");
   // Unchanged rows give the same bits before and after and cancel: only the named rows count.
   OpenEdit e;
-  e.energy_before =
-      strain_energy_of_rows(bonds_, p_, C_, energy_rows) + kinetic_energy_of(p_, moving);
+  e.energy_before = strain_energy_of_rows(bonds_, p_, energy_rows) + kinetic_energy_of(p_, moving);
   e.correction_before = verlet_correction();
   e.energy_rows = std::move(energy_rows);
   edit_ = std::move(e);
-  return {p_, bonds_, dual_};
+  return {p_, bonds_};
 }
 
 void Simulation::particles_written(const std::vector<std::int32_t>& slots) {
@@ -45,8 +44,7 @@ void Simulation::particles_written(const std::vector<std::int32_t>& slots) {
   std::sort(sorted.begin(), sorted.end());
   update_bond_constants(sorted);
   bonds_.rows.grow_rows(p_.size());
-  dual_.rows.grow_rows(p_.size());
-  il_.rows.grow_rows(p_.size());
+  bonds_.break_ratio2.resize(p_.size(), HUGE_VAL);
 }
 
 std::int32_t Simulation::take_ids(std::size_t n) {
@@ -65,17 +63,17 @@ EditOutcome Simulation::commit_edit(const DiscretisationChange& change,
   // solved again; the others keep their factors, and particles outside keep their bonds, so they
   // stay consistent (docs/theory.md §14).
   if (corrects_interfaces())
-    out.interfaces = correct_level_interfaces(bonds_, dual_, p_, C_, dirty);
-  const auto inputs = row_inputs();
-  for (const auto i : dirty) rebuild_interaction_row(il_, static_cast<std::size_t>(i), inputs);
-  particle_time_steps(il_, p_, particle_dt_, &dirty);
+    out.interfaces = correct_level_interfaces(bonds_, p_, setup_.partial_volume, C_, dirty);
+  const auto constants = bond_constants();
+  for (const auto i : dirty) refresh_row(bonds_, constants, static_cast<std::size_t>(i));
+  particle_time_steps(bonds_, p_, particle_dt_, &dirty);
   critical_dt_ = estimate_critical_dt();
   // A fixed step stays while it is stable; otherwise the scene's safety applies to the new step.
   const bool keep_fixed = setup_.fixed_dt && *setup_.fixed_dt <= critical_dt_;
   dt_ = keep_fixed ? *setup_.fixed_dt : setup_.safety * critical_dt_;
   inherit_loads(loads_, change.successor, change.predecessor);
   enforce_prescribed_velocity();
-  internal_force_density(il_, p_, &dirty);
+  internal_force_density(bonds_, p_, &dirty);
   touched_.resize(p_.size(), 0);
   for (const auto i : dirty) touched_[static_cast<std::size_t>(i)] = 1;
   for (std::size_t k = 0; k < loads_.loaded.size(); ++k)
@@ -84,14 +82,15 @@ EditOutcome Simulation::commit_edit(const DiscretisationChange& change,
         p_.force_density[a][loads_.loaded[k]] += loads_.body_force[k][a];
   for (const auto i : dirty) touched_[static_cast<std::size_t>(i)] = 0;
   last_power_ = boundary_power();
-  if (setup_.effects.fracture) compute_damage(bonds_, p_, &change.rewritten_rows);
+  if (setup_.effects.fracture)
+    compute_damage(bonds_, p_, setup_.partial_volume, &change.rewritten_rows);
   appended_since_compaction_ += p_.size() - change.old_size;
   ++generation_;
   // The energy ledger: the named rows again, with the appended particles' rows after them.
   auto rows = std::move(edit_->energy_rows);
   for (const auto c : change.new_particles)
     if (static_cast<std::size_t>(c) >= change.old_size) rows.push_back(c);
-  out.energy_change = strain_energy_of_rows(bonds_, p_, C_, rows) +
+  out.energy_change = strain_energy_of_rows(bonds_, p_, rows) +
                       kinetic_energy_of(p_, change.new_particles) - edit_->energy_before;
   // The shadow energy also moves with the new forces and the new dt (a pass over particles only).
   out.shadow_change = out.energy_change - (verlet_correction() - edit_->correction_before);
@@ -110,15 +109,13 @@ double Simulation::compact() {
   std::vector<std::int32_t> new_index(n);
   for (std::size_t k = 0; k < n; ++k) new_index[static_cast<std::size_t>(order[k])] = k;
   p_ = gather(p_, order);
-  bonds_ = renumbered_bonds(bonds_, order, new_index);
-  dual_ = build_dual(bonds_);
+  bonds_ = renumbered_rows(bonds_, order, new_index);
   update_bond_constants();
-  il_ = build_interactions(row_inputs());
-  particle_time_steps(il_, p_, particle_dt_);
+  particle_time_steps(bonds_, p_, particle_dt_);
   renumber_loads(loads_, new_index);
   touched_.assign(n, 0);
   compute_forces();
-  if (setup_.effects.fracture) compute_damage(bonds_, p_);
+  if (setup_.effects.fracture) compute_damage(bonds_, p_, setup_.partial_volume);
   appended_since_compaction_ = 0;
   ++layout_version_;
   return seconds_since(start);

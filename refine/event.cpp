@@ -50,7 +50,7 @@ void write_event_children(Simulation& sim, Simulation::Discretisation d, Spatial
   ev.parents = gather(p, plan.parents);
   std::vector<std::int32_t> held(sim.loads().prescribed);
   std::sort(held.begin(), held.end());
-  const auto state = map_state(plan, mapping, p, d.bonds, held,
+  const auto state = map_state(plan, mapping, p, d.bonds, sim.setup().partial_volume, held,
                                donors_across_cracks(plan, p, sim.setup().cracks, grid));
   out.reduced_fits = state.reduced_fits;
   ev.near = old_neighbourhood(sim, grid, plan, cancelled);
@@ -127,7 +127,7 @@ RefinementEvent split(Simulation& sim, const std::vector<std::int32_t>& parents,
   out.children = ev.plan.child_slot.size();
   out.dropped = ev.plan.dropped;
   out.rows_touched = ev.dirty.size();
-  out.bonds = sim.bonds().size();
+  out.bonds = static_cast<std::size_t>(sim.bonds().own_bonds);
   out.seconds = seconds_since(start);
   const auto& setup = sim.setup();
   const bool crowded = static_cast<double>(sim.appended_since_compaction()) >

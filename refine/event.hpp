@@ -45,7 +45,7 @@ struct RefinementEvent {
   std::size_t dropped = 0;          ///< children not created (outside the body)
   std::size_t rows_rebuilt = 0;     ///< owners whose bond rows were rebuilt
   std::size_t bonds_rebuilt = 0;    ///< bonds written by the event
-  std::size_t rows_touched = 0;     ///< interaction rows rewritten (owners and their neighbours)
+  std::size_t rows_touched = 0;     ///< bond rows rewritten (owners and their neighbours)
   std::size_t bonds = 0;            ///< bonds after the event
   std::int64_t started_broken = 0;  ///< new bonds set broken by the no-healing rule
   /// New bonds set broken because the mapped state stretched them to s0 (starts_overstretched).
@@ -78,8 +78,8 @@ class EventSearch {
 
 /// Splits the given particles (indices of the current generation) into up to 2^dim children each
 /// (plan_split; u and v by `mapping`) and rebuilds incrementally: only the children and the
-/// owners of bonds on the parents or within reach of a child get new bond rows; the dual rows
-/// and interaction rows of their neighbours are patched; the no-healing rule sets the new bonds;
+/// owners of bonds on the parents or within reach of a child get new own bonds; their
+/// neighbours' rows get the dual side; the no-healing rule sets the new bonds;
 /// the engine then derives loads, stable step, forces and damage of the touched particles. A
 /// parent's first child takes its slot, the other children are appended, so every other index
 /// stays valid, unless the event ends with a compaction (RefinementEvent::resorted). Refused for

@@ -50,21 +50,20 @@ OldSegments::OldSegments(const OldGeneration& old, std::vector<std::int32_t> own
     : old_(old), owners_(std::move(owners)), dim_(old.particles.dim()) {
   const auto& b = old.bonds;
   for (const auto i : owners_)
-    for (auto k = b.begin(static_cast<std::size_t>(i)); k < b.end(static_cast<std::size_t>(i)); ++k)
-      cell_ = std::max(cell_, b.length[k]);
+    for_each_own_bond(b, static_cast<std::size_t>(i),
+                      [&](std::int64_t k, std::size_t) { cell_ = std::max(cell_, b.length(k)); });
   // Bins a quarter of the longest bond wide: a query scans about the volume a crossing bond's
   // midpoint can lie in, (longest + |a–b|)^dim, instead of 3^dim times the longest bond.
   max_length_ = cell_;
   cell_ *= 0.25;
   for (const auto i : owners_)
-    for (auto k = b.begin(static_cast<std::size_t>(i)); k < b.end(static_cast<std::size_t>(i)); ++k)
-      if (!b.intact[k]) bin(broken_, k);
+    for_each_own_bond(b, static_cast<std::size_t>(i), [&](std::int64_t k, std::size_t j) {
+      if (!b.own_intact(k)) bin(broken_, i, static_cast<std::int32_t>(j));
+    });
 }
 
-void OldSegments::bin(Bins& bins, std::int64_t k) const {
-  const auto& b = old_.bonds;
-  const Segment seg{old_.position(b.owner[k]), old_.position(b.neighbor[k]), b.owner[k],
-                    b.neighbor[k]};
+void OldSegments::bin(Bins& bins, std::int32_t owner, std::int32_t neighbor) const {
+  const Segment seg{old_.position(owner), old_.position(neighbor), owner, neighbor};
   const Vec3 m = 0.5 * (seg.c + seg.d);
   std::int64_t c[3] = {0, 0, 0};
   for (int a = 0; a < dim_; ++a) c[a] = static_cast<std::int64_t>(std::floor(m[a] / cell_));
@@ -111,11 +110,10 @@ OldSegments::Crossings OldSegments::crossing(const Vec3& a, const Vec3& b, std::
   out.broken = count(broken_, a, b, skip, tube);
   if (!count_all || out.broken == 0) return out;
   if (!all_built_) {
-    const auto& bonds = old_.bonds;
     for (const auto i : owners_)
-      for (auto k = bonds.begin(static_cast<std::size_t>(i));
-           k < bonds.end(static_cast<std::size_t>(i)); ++k)
-        bin(all_, k);
+      for_each_own_bond(old_.bonds, static_cast<std::size_t>(i), [&](std::int64_t, std::size_t j) {
+        bin(all_, i, static_cast<std::int32_t>(j));
+      });
     all_built_ = true;
   }
   out.all = count(all_, a, b, skip, tube);
@@ -127,12 +125,12 @@ namespace {
 enum class PairState { None, Intact, Broken };
 
 /// State of the previous bonds between P and Q: P→Q only when `one_way`, else P→Q and Q→P.
-PairState pair_state(const BondList& b, std::int32_t P, std::int32_t Q, bool one_way) {
+PairState pair_state(const BondRows& b, std::int32_t P, std::int32_t Q, bool one_way) {
   bool found = false, broken = false;
-  for (const auto& [x, y] : {std::pair{P, Q}, std::pair{Q, P}}) {
-    for (auto k = b.begin(static_cast<std::size_t>(x)); k < b.end(static_cast<std::size_t>(x)); ++k)
-      if (b.neighbor[k] == y) found = true, broken = broken || !b.intact[k];
-    if (one_way) break;
+  const auto k = b.find(static_cast<std::size_t>(P), Q);
+  if (k >= 0) {  // entry Q of row P: P→Q is its own bond, Q→P its dual
+    if (b.has_own(k)) found = true, broken = broken || !b.own_intact(k);
+    if (!one_way && b.has_dual(k)) found = true, broken = broken || !b.dual_intact(k);
   }
   return !found ? PairState::None : (broken ? PairState::Broken : PairState::Intact);
 }
@@ -148,33 +146,41 @@ bool starts_broken(const OldGeneration& old, const OldSegments& segments, const 
 }
 
 bool starts_overstretched(const ParticleStore& p, std::size_t owner, std::size_t neighbor,
-                          double length, double owner_critical_stretch) {
+                          double inverse_length, double owner_critical_stretch) {
   return !p.no_fail[owner] &&
-         bond_law::reaches_critical_stretch(bond_law::squared_length(p, owner, neighbor), length,
-                                            owner_critical_stretch);
+         bond_law::reaches_critical_stretch(
+             bond_law::stretch_ratio2(bond_law::squared_length(p, owner, neighbor), inverse_length),
+             owner_critical_stretch);
 }
 
-std::int64_t apply_no_healing(BondList& bonds, const ParticleStore& p,
+std::int64_t apply_no_healing(BondRows& bonds, const ParticleStore& p,
                               const std::vector<std::int32_t>& previous,
-                              const std::vector<std::uint8_t>& born, const BondList& old_bonds,
+                              const std::vector<std::uint8_t>& born, const BondRows& old_bonds,
                               const ParticleStore& old_p) {
   const OldGeneration old{old_bonds, old_p};
   std::vector<std::int32_t> all(old_p.size());
   for (std::size_t i = 0; i < all.size(); ++i) all[i] = static_cast<std::int32_t>(i);
   const OldSegments segments(old, std::move(all));
-  std::fill(bonds.intact.begin(), bonds.intact.end(), 1);
+  for (std::size_t i = 0; i < bonds.particles(); ++i)  // everything intact first
+    for (auto k = bonds.begin(i); k < bonds.end(i); ++k)
+      bonds.flags[k] =
+          static_cast<std::uint8_t>(bonds.flags[k] | (bonds.has_own(k) ? kOwnIntact : 0) |
+                                    (bonds.has_dual(k) ? kDualIntact : 0));
   if (!segments.any_broken()) return 0;
   std::int64_t count = 0;
   const auto& X = p.reference_position;
   for (std::size_t i = 0; i < bonds.particles(); ++i)
-    for (auto k = bonds.begin(i); k < bonds.end(i); ++k) {
-      const auto j = static_cast<std::size_t>(bonds.neighbor[k]);
+    for_each_own_bond(bonds, i, [&](std::int64_t k, std::size_t j) {
       const bool cut = starts_broken(
           old, segments, {X[0][i], X[1][i], X[2][i]}, {X[0][j], X[1][j], X[2][j]}, previous[i],
           previous[j], !born[i] && !born[j], 0.5 * std::min(p.spacing[i], p.spacing[j]));
-      bonds.intact[k] = cut ? 0 : 1;
-      count += cut ? 1 : 0;
-    }
+      if (!cut) return;
+      // The bond's own side in row i and its dual side in row j.
+      bonds.flags[k] = static_cast<std::uint8_t>(bonds.flags[k] & ~kOwnIntact);
+      const auto d = bonds.find(j, static_cast<std::int32_t>(i));
+      bonds.flags[d] = static_cast<std::uint8_t>(bonds.flags[d] & ~kDualIntact);
+      ++count;
+    });
   return count;
 }
 

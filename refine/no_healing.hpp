@@ -17,7 +17,7 @@ namespace dhpd::refine {
 /// the parents' slots, so the parents' old positions come from `parents` (their snapshot), looked
 /// up by `parent_slot[x]` (−1 for particles that were not split).
 struct OldGeneration {
-  const BondList& bonds;
+  const BondRows& bonds;
   const ParticleStore& particles;
   const ParticleStore* parents = nullptr;
   const std::vector<std::int32_t>* parent_slot = nullptr;
@@ -49,7 +49,7 @@ class OldSegments {
     std::int32_t owner, neighbor;
   };
   using Bins = std::unordered_map<std::int64_t, std::vector<Segment>>;
-  void bin(Bins& bins, std::int64_t bond) const;
+  void bin(Bins& bins, std::int32_t owner, std::int32_t neighbor) const;
   std::size_t count(const Bins& bins, const geometry::Vec3& a, const geometry::Vec3& b,
                     std::int32_t skip, double tube) const;
 
@@ -81,20 +81,21 @@ bool starts_broken(const OldGeneration& old, const OldSegments& segments, const 
                    double tube);
 
 /// The rule applied from scratch to every bond of a new generation: `previous[i]` is the previous
-/// index of new particle i (its parent for a child), `born[i]` is 1 for children. Sets
-/// `bonds.intact` and returns the number of bonds that start broken.
-std::int64_t apply_no_healing(BondList& bonds, const ParticleStore& p,
+/// index of new particle i (its parent for a child), `born[i]` is 1 for children. Sets the intact
+/// bits of `bonds` (own and dual side) and returns the number of bonds that start broken.
+std::int64_t apply_no_healing(BondRows& bonds, const ParticleStore& p,
                               const std::vector<std::int32_t>& previous,
-                              const std::vector<std::uint8_t>& born, const BondList& old_bonds,
+                              const std::vector<std::uint8_t>& born, const BondRows& old_bonds,
                               const ParticleStore& old_p);
 
 /// The second birth rule of an event's bonds: a new bond that no-healing leaves intact starts
 /// broken when the mapped state already stretches it to its owner's critical stretch or beyond,
-/// s = |y_j − y_i| / |ξ| − 1 ≥ s0_i (what the next fracture pass would do; decided here so that
-/// the event log counts it as `started_overstretched`). Owners flagged no_fail never start broken.
-/// The state mapping keeps this at zero where the parents' field is linear (docs/scenes.md).
+/// s = |y_j − y_i| / |ξ| − 1 ≥ s0_i, on the squared ratio as the force kernel tests it (what the
+/// next fracture pass would do; decided here so that the event log counts it as
+/// `started_overstretched`). Owners flagged no_fail never start broken. The state mapping keeps
+/// this at zero where the parents' field is linear (docs/scenes.md).
 bool starts_overstretched(const ParticleStore& p, std::size_t owner, std::size_t neighbor,
-                          double length, double owner_critical_stretch);
+                          double inverse_length, double owner_critical_stretch);
 
 /// Whether the planar segments a–b and c–d cross at a single point interior to both.
 bool segments_cross_properly(const geometry::Vec3& a, const geometry::Vec3& b,

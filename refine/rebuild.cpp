@@ -1,6 +1,6 @@
 // The incremental rebuild of a refinement event (docs/theory.md §2, §13.6; IJNME 2016 §5.3): only
-// the children and the owners of bonds on the parents (or within reach of a child) get new bond
-// rows; the dual rows of their neighbours are patched; no-healing decides the new bonds' states.
+// the children and the owners of bonds on the parents (or within reach of a child) get new own
+// bonds; their neighbours' rows get the dual side; no-healing decides the new bonds' states.
 #include "refine/rebuild.hpp"
 
 #include <algorithm>
@@ -55,11 +55,11 @@ std::vector<std::int32_t> old_neighbourhood(const Simulation& sim, const Spatial
 
 std::vector<std::int32_t> event_energy_rows(const Simulation& sim, const SpatialGrid& grid,
                                             const SplitPlan& plan, const CancelCheck& cancelled) {
-  // Rows whose energy an event can change: the parents' and their neighbours' (owners of bonds on
-  // a parent lie within a horizon of it), and those reaching a child (within a cell of its parent).
-  // With the interface correction the factors of bonds between touched rows change too: their
-  // owners lie up to one more bond length out.
-  const double widest = (sim.corrects_interfaces() ? 2.0 : 1.0) * widest_bond(sim);
+  // Rows whose energy an event can change: every row with an entry that changes (the rows of
+  // owners rebuilt, which lie within a bond length and a cell of a parent, and the rows of their
+  // neighbours, one bond length further, which hold the dual side; the interface correction
+  // changes only bonds between such rows).
+  const double widest = 2.0 * widest_bond(sim);
   return around_parents(
       sim, grid, plan, [&](std::size_t u) { return widest + 2.0 * sim.particles().spacing[u]; },
       cancelled);
@@ -70,12 +70,12 @@ std::vector<std::int32_t> owners_to_rebuild(const Simulation& sim, const Spatial
   const auto& plan = ev.plan;
   const auto& p = sim.particles();
   const auto& bonds = sim.bonds();
-  const auto& dual = sim.dual();
   std::vector<std::int32_t> owners(plan.child_slot), found;
-  for (const auto q : plan.parents)  // owners of bonds on the parents (their dual rows)
-    for (auto d = dual.begin(static_cast<std::size_t>(q));
-         d < dual.end(static_cast<std::size_t>(q)); ++d)
-      owners.push_back(bonds.owner[dual.bond[d]]);
+  for (const auto q : plan.parents) {  // owners of bonds on the parents (the dual side of q's row)
+    const auto u = static_cast<std::size_t>(q);
+    for (auto k = bonds.begin(u); k < bonds.end(u); ++k)
+      if (bonds.has_dual(k)) owners.push_back(bonds.other[k]);
+  }
   const BondRowBuilder builder(p, sim.setup().partial_volume, sim.setup().cracks, sim.bond_reach());
   const double widest = widest_bond(sim);
   const auto& X = p.reference_position;
@@ -97,17 +97,11 @@ std::vector<std::int32_t> owners_to_rebuild(const Simulation& sim, const Spatial
 }
 
 namespace {
-/// The new rows of the owners, flat: row k is [start[k], start[k+1]).
-struct NewRows {
-  std::vector<std::int64_t> start{0};
-  std::vector<std::int32_t> neighbor;
-  std::vector<double> length, weight;
-  std::vector<std::uint8_t> intact;
-};
-
-/// Phase 1: the new rows, decided against the previous generation (nothing committed yet).
-NewRows decide_rows(const Simulation& sim, const SpatialGrid& grid, const EventScratch& ev,
-                    RefinementEvent& out, const CancelCheck& cancelled) {
+/// Phase 1: the owners' new own bonds, decided against the previous generation (nothing
+/// committed yet).
+std::vector<std::vector<NewBond>> decide_rows(const Simulation& sim, const SpatialGrid& grid,
+                                              const EventScratch& ev, RefinementEvent& out,
+                                              const CancelCheck& cancelled) {
   const auto& p = sim.particles();
   const auto& plan = ev.plan;
   const auto& child_of_slot = *ev.child_of_slot;
@@ -121,15 +115,16 @@ NewRows decide_rows(const Simulation& sim, const SpatialGrid& grid, const EventS
     const auto c = child_of_slot[static_cast<std::size_t>(x)];
     return c < 0 ? x : plan.parents[static_cast<std::size_t>(plan.child_parent[c])];
   };
-  NewRows rows;
+  std::vector<std::vector<NewBond>> rows(ev.owners.size());
   std::vector<std::int32_t> cand;
   const auto& X = p.reference_position;
   CancelPoll poll(cancelled);
-  for (const auto i : ev.owners) {
+  for (std::size_t r = 0; r < ev.owners.size(); ++r) {
     poll("deciding the new rows");
+    const auto i = ev.owners[r];
     const auto u = static_cast<std::size_t>(i);
     grid.within(point_of(X, u), builder.search_radius(u), cand, i);
-    builder.keep_bonds(u, cand, &rows.length, &rows.weight);
+    builder.keep_bonds(u, cand);
     for (const auto j : cand) {
       const auto v = static_cast<std::size_t>(j);
       const bool unsplit = child_of_slot[u] < 0 && child_of_slot[v] < 0;
@@ -137,63 +132,34 @@ NewRows decide_rows(const Simulation& sim, const SpatialGrid& grid, const EventS
           rule && starts_broken(old, segments, point_of(X, u), point_of(X, v), previous(i),
                                 previous(j), unsplit, 0.5 * std::min(p.spacing[u], p.spacing[v]));
       const bool over = !cut && fracture &&
-                        starts_overstretched(p, u, v, rows.length[rows.neighbor.size()], s0[u]);
-      rows.neighbor.push_back(j);
-      rows.intact.push_back(cut || over ? 0 : 1);
+                        starts_overstretched(p, u, v, inverse_reference_length(p, u, v), s0[u]);
+      rows[r].push_back({j, !(cut || over)});
       out.started_broken += cut ? 1 : 0;
       out.started_overstretched += over ? 1 : 0;
     }
-    rows.start.push_back(static_cast<std::int64_t>(rows.neighbor.size()));
   }
   return rows;
+}
+
+/// Broken own bonds of the given rows.
+std::int64_t broken_own_bonds(const BondRows& b, const std::vector<std::int32_t>& rows) {
+  std::int64_t n = 0;
+  for (const auto i : rows)
+    for_each_own_bond(b, static_cast<std::size_t>(i),
+                      [&](std::int64_t k, std::size_t) { n += b.own_intact(k) ? 0 : 1; });
+  return n;
 }
 }  // namespace
 
 void rebuild_rows(const Simulation& sim, Simulation::Discretisation d, const SpatialGrid& grid,
                   EventScratch& ev, RefinementEvent& out, const CancelCheck& cancelled) {
-  const NewRows rows = decide_rows(sim, grid, ev, out, cancelled);
-  auto& bonds = d.bonds;
-  auto& dual = d.dual;
-  // Phase 2: retire the old rows (parents' rows included: their slots are children now).
-  ev.dirty = ev.owners;  // owners, and every particle whose dual row changes
-  for (const auto i : ev.owners) {
-    const auto u = static_cast<std::size_t>(i);
-    for (auto b = bonds.begin(u); b < bonds.end(u); ++b) {
-      dual.remove(static_cast<std::size_t>(bonds.neighbor[b]), static_cast<BondId>(b));
-      ev.dirty.push_back(bonds.neighbor[b]);
-      ev.broken_change -= bonds.intact[b] ? 0 : 1;
-      bonds.owner[b] = bonds.neighbor[b] = -1;
-      bonds.intact[b] = 0;
-    }
-    bonds.live -= bonds.rows.count[u];
-    bonds.rows.count[u] = 0;
-  }
-  // Phase 3: write the new rows and add them to their neighbours' dual rows.
-  for (std::size_t k = 0; k < ev.owners.size(); ++k) {
-    const auto u = static_cast<std::size_t>(ev.owners[k]);
-    const auto n = static_cast<std::int32_t>(rows.start[k + 1] - rows.start[k]);
-    const auto s = bonds.rows.make_room(u, n);
-    bonds.fit_arena();
-    if (bonds.slots() > static_cast<std::size_t>(INT32_MAX))
-      throw EngineError("more than 2^31 bond slots: not supported by 32-bit bond ids");
-    for (std::int32_t e = 0; e < n; ++e) {
-      const auto r = static_cast<std::size_t>(rows.start[k] + e);
-      const auto b = static_cast<std::size_t>(s + e);
-      bonds.owner[b] = ev.owners[k];
-      bonds.neighbor[b] = rows.neighbor[r];
-      bonds.length[b] = rows.length[r];
-      bonds.weight[b] = rows.weight[r];
-      bonds.stiffness[b] = 1.0;  // set by the interface correction (commit_edit)
-      bonds.intact[b] = rows.intact[r];
-      ev.broken_change += rows.intact[r] ? 0 : 1;
-      dual.add(static_cast<std::size_t>(rows.neighbor[r]), static_cast<BondId>(b));
-      ev.dirty.push_back(rows.neighbor[r]);
-    }
-    bonds.rows.count[u] = n;
-    bonds.live += n;
-    out.bonds_rebuilt += static_cast<std::size_t>(n);
-  }
-  sort_unique(ev.dirty);
+  const auto rows = decide_rows(sim, grid, ev, out, cancelled);
+  // Phase 2: the owners' old bonds (the parents' rows included: their slots are children now)
+  // give way to the new ones, own side and dual side.
+  ev.broken_change = -broken_own_bonds(d.bonds, ev.owners);
+  ev.dirty = replace_own_bonds(d.bonds, d.particles, ev.owners, rows);
+  ev.broken_change += broken_own_bonds(d.bonds, ev.owners);
+  for (const auto& r : rows) out.bonds_rebuilt += r.size();
   out.rows_rebuilt = ev.owners.size();
 }
 

@@ -16,7 +16,7 @@ struct EventScratch {
   ParticleStore parents;             ///< the parents' fields before the split
   std::vector<std::int32_t> near;    ///< previous-generation owners near the parents (rule b)
   std::vector<std::int32_t> owners;  ///< bond rows rebuilt, ascending
-  std::vector<std::int32_t> dirty;   ///< interaction rows rewritten, ascending
+  std::vector<std::int32_t> dirty;   ///< bond rows rewritten (own or dual side), ascending
   std::int64_t broken_change = 0;    ///< broken bonds after minus before
   std::vector<std::int32_t>* parent_slot = nullptr;    ///< per slot: index into plan.parents
   std::vector<std::int32_t>* child_of_slot = nullptr;  ///< per slot: index of its child
@@ -35,8 +35,8 @@ std::vector<std::int32_t> event_energy_rows(const Simulation& sim, const Spatial
 std::vector<std::int32_t> owners_to_rebuild(const Simulation& sim, const SpatialGrid& grid,
                                             const EventScratch& ev,
                                             const CancelCheck& cancelled = {});
-/// Decides the owners' new rows against the previous generation, retires their old bonds from
-/// the dual rows and writes the new ones (ev.dirty: every row that changed).
+/// Decides the owners' new own bonds against the previous generation and puts them in place of
+/// the old ones, own side and dual side (ev.dirty: every row that changed).
 /// These searches ask `cancelled` every 256 items (EventCancelled; see split).
 void rebuild_rows(const Simulation& sim, Simulation::Discretisation d, const SpatialGrid& grid,
                   EventScratch& ev, RefinementEvent& out, const CancelCheck& cancelled);

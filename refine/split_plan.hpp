@@ -6,7 +6,6 @@
 #include <optional>
 #include <vector>
 
-#include "engine/discretization/bonds.hpp"
 #include "engine/discretization/particles.hpp"
 #include "engine/discretization/section.hpp"
 #include "geometry/crack.hpp"

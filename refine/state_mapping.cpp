@@ -67,8 +67,8 @@ int solve_pseudo(const Normal& M, const Rhs& R, Rhs& c) {
 }
 
 /// One least-squares solve over i's intact own bonds; false when the basis is not resolved.
-bool fit_once(const ParticleStore& p, const BondList& b, std::size_t i, bool quadratic,
-              const std::vector<std::int32_t>& held, ParentFit& out) {
+bool fit_once(const ParticleStore& p, const BondRows& b, PartialVolume rule, std::size_t i,
+              bool quadratic, const std::vector<std::int32_t>& held, ParentFit& out) {
   auto is_held = [&](std::size_t x) {
     return std::binary_search(held.begin(), held.end(), static_cast<std::int32_t>(x));
   };
@@ -79,13 +79,13 @@ bool fit_once(const ParticleStore& p, const BondList& b, std::size_t i, bool qua
   Normal M = Normal::Zero(n, n);
   Rhs R = Rhs::Zero(n, 6);
   for (auto k = b.begin(i); k < b.end(i); ++k) {
-    if (!b.intact[k]) continue;
-    const auto j = static_cast<std::size_t>(b.neighbor[k]);
+    if (!b.own_intact(k)) continue;
+    const auto j = static_cast<std::size_t>(b.other[k]);
     if (!held.empty() && is_held(j) != i_held) continue;
     double e[3] = {0, 0, 0};
     for (int a = 0; a < d; ++a)
       e[a] = (p.reference_position[a][j] - p.reference_position[a][i]) / h;
-    const double w = b.weight[k] * p.volume[j];
+    const double w = bond_weight(p, rule, i, j, b.length(k)) * p.volume[j];
     const Basis phi = basis(e, d, quadratic);
     M.noalias() += w * phi * phi.transpose();
     for (int r = 0; r < d; ++r) {
@@ -125,16 +125,17 @@ double FieldFit::change(int r, const Vec3& o, int dim) const {
   return w;
 }
 
-ParentFit fit_parent(const ParticleStore& p, const BondList& bonds, std::size_t i, bool quadratic,
-                     const std::vector<std::int32_t>& held) {
+ParentFit fit_parent(const ParticleStore& p, const BondRows& bonds, PartialVolume rule,
+                     std::size_t i, bool quadratic, const std::vector<std::int32_t>& held) {
   ParentFit fit;
-  if (quadratic && fit_once(p, bonds, i, true, held, fit)) return fit;
-  if (!fit_once(p, bonds, i, false, held, fit)) fit = ParentFit{};
+  if (quadratic && fit_once(p, bonds, rule, i, true, held, fit)) return fit;
+  if (!fit_once(p, bonds, rule, i, false, held, fit)) fit = ParentFit{};
   return fit;
 }
 
 ChildState map_state(const SplitPlan& plan, StateMapping mapping, const ParticleStore& p,
-                     const BondList& bonds, const std::vector<std::int32_t>& held,
+                     const BondRows& bonds, PartialVolume rule,
+                     const std::vector<std::int32_t>& held,
                      const std::vector<std::int32_t>& donor) {
   ChildState s;
   const int d = p.dim();
@@ -143,7 +144,8 @@ ChildState map_state(const SplitPlan& plan, StateMapping mapping, const Particle
   s.velocity.resize(n);
   const bool quadratic = mapping == StateMapping::Quadratic;
   auto fit_of = [&](std::size_t i) {
-    return mapping == StateMapping::Copy ? ParentFit{} : fit_parent(p, bonds, i, quadratic, held);
+    return mapping == StateMapping::Copy ? ParentFit{}
+                                         : fit_parent(p, bonds, rule, i, quadratic, held);
   };
   std::vector<Vec3> du, dv;  // per child of one parent: the change from the parent's u and v
   for (std::size_t c = 0; c < n;) {  // the children of one parent are consecutive

@@ -50,7 +50,8 @@ struct ChildState {
 /// particle whose fit gives a child across a pre-crack from its parent its u and v
 /// (`donors_across_cracks`); momentum stays exact (the siblings' mean change of v is removed).
 ChildState map_state(const SplitPlan& plan, StateMapping mapping, const ParticleStore& p,
-                     const BondList& bonds, const std::vector<std::int32_t>& held,
+                     const BondRows& bonds, PartialVolume rule,
+                     const std::vector<std::int32_t>& held,
                      const std::vector<std::int32_t>& donor = {});
 
 /// A least-squares fit of a vector field w around particle i over its intact own bonds, weighted
@@ -70,7 +71,7 @@ struct FieldFit {
 struct ParentFit {
   FieldFit displacement, velocity;
 };
-ParentFit fit_parent(const ParticleStore& p, const BondList& bonds, std::size_t i, bool quadratic,
-                     const std::vector<std::int32_t>& held = {});
+ParentFit fit_parent(const ParticleStore& p, const BondRows& bonds, PartialVolume rule,
+                     std::size_t i, bool quadratic, const std::vector<std::int32_t>& held = {});
 
 }  // namespace dhpd::refine

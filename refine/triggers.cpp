@@ -23,9 +23,12 @@ std::vector<double> critical_energy_density(const Simulation& sim) {
       continue;
     }
     double w = 0.0;
-    for (auto k = b.begin(i); k < b.end(i); ++k)
-      w += bond_law::energy_share(1.0, b.length[k], b.weight[k], b.stiffness[k],
-                                  p.volume[static_cast<std::size_t>(b.neighbor[k])]);
+    for_each_own_bond(b, i, [&](std::int64_t k, std::size_t j) {
+      const double length = b.length(k);
+      w += bond_law::energy_share(1.0, length,
+                                  bond_weight(p, sim.setup().partial_volume, i, j, length),
+                                  b.own_factor(k), p.volume[j]);
+    });
     out[i] = 0.5 * sim.micromodulus()[i] * s0 * s0 * w;
   }
   return out;
@@ -37,9 +40,9 @@ std::vector<double> max_bond_stretch(const Simulation& sim) {
   std::vector<double> out(p.size(), 0.0);
   for (std::size_t i = 0; i < p.size(); ++i)
     for (auto k = b.begin(i); k < b.end(i); ++k) {
-      if (!b.intact[k]) continue;
-      const auto j = static_cast<std::size_t>(b.neighbor[k]);
-      out[i] = std::max(out[i], bond_law::stretch(bond_law::squared_length(p, i, j), b.length[k]));
+      if (!b.own_intact(k)) continue;
+      const auto j = static_cast<std::size_t>(b.other[k]);
+      out[i] = std::max(out[i], bond_law::stretch(bond_law::squared_length(p, i, j), b.length(k)));
     }
   return out;
 }
@@ -113,7 +116,7 @@ std::vector<std::uint8_t> triggered(const Simulation& sim, const Triggers& t) {
   }
   if (t.energy) {
     std::vector<double> w;
-    strain_energy_density(sim.bonds(), sim.particles(), sim.micromodulus(), w);
+    strain_energy_density(sim.bonds(), sim.bond_constants(), w);
     const auto crit = critical_energy_density(sim);
     for (std::size_t i = 0; i < n; ++i)
       if (crit[i] > 0.0 && w[i] >= *t.energy * crit[i]) out[i] = 1;

@@ -85,11 +85,13 @@ StateBytes state_bytes(ForceModel model) {
         },
         f.data);
   const double row_index = sizeof(std::int64_t) + 2 * sizeof(std::int32_t);
-  b.per_particle += 3 * sizeof(double) + 3 * row_index;  // C, s0, stable step; three row arenas
-  const double bond_row = 2 * sizeof(std::int32_t) + 3 * sizeof(double) + sizeof(std::uint8_t);
-  const double interaction = sizeof(std::int32_t) + 2 * sizeof(double);
-  const double entries = model == ForceModel::DualHorizon ? 2.0 : 1.0;
-  b.per_bond = bond_row + sizeof(BondId) + entries * interaction + 2 * sizeof(std::int64_t);
+  // C, s0, stable step and the row's break threshold; one row index.
+  b.per_particle += 4 * sizeof(double) + row_index;
+  // One row entry per own bond (both rows of a pair hold one entry each, and each holds one own
+  // bond): other, 1/|ξ|, flags and the pair stiffness. The classical models keep the dual side
+  // too (their rows list every pair), so the count is the same.
+  (void)model;
+  b.per_bond = sizeof(std::int32_t) + sizeof(double) + sizeof(std::uint8_t) + sizeof(float);
   return b;
 }
 

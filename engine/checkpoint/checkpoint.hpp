@@ -18,8 +18,10 @@
 namespace dhpd {
 
 // 2: bond stiffness factors, crack tracks' initial angles and branch speeds;
-// 3: refinement's search grid and event scratch left the state, the layout version entered.
-constexpr std::uint32_t kCheckpointVersion = 4;
+// 3: refinement's search grid and event scratch left the state, the layout version entered;
+// 4: interaction rows with one entry per neighbour pair;
+// 5: the bond rows are the only bond store (no bond list or dual lists), stiffness in float.
+constexpr std::uint32_t kCheckpointVersion = 5;
 
 /// The in-memory snapshot of a simulation (every array as it is, row arenas included).
 std::vector<std::byte> save_simulation(const Simulation& sim);
@@ -30,10 +32,11 @@ void save_simulation_into(const Simulation& sim, std::vector<std::byte>& out);
 std::size_t simulation_snapshot_bytes(const Simulation& sim);
 
 /// Bytes per particle and per own bond of a simulation's state, from what it stores: every
-/// registered particle field, the bond constants and stable steps, three row indices per
-/// particle; per bond its row entry, its dual entry and its interaction entries (two in DH-PD,
-/// one in the classical models). A freshly built state is about particles × per_particle +
-/// bonds × per_bond (test: within a few per cent of simulation_snapshot_bytes).
+/// registered particle field, the bond constants, stable steps and break thresholds, one row
+/// index per particle; per own bond one row entry (with equal horizons the rows hold as many
+/// entries as own bonds; level-interface factors add 4 bytes per entry where they are solved). A
+/// freshly built state is about particles × per_particle + bonds × per_bond (test: within a few
+/// per cent of simulation_snapshot_bytes).
 struct StateBytes {
   double per_particle = 0.0, per_bond = 0.0;
 };

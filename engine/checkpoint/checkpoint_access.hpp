@@ -39,43 +39,43 @@ struct CheckpointAccess {
 
   template <class Sim, class Ar>
   static void members(Sim& s, Ar& ar) {
-    rows(s.bonds_.rows, ar);
-    ar(s.bonds_.owner), ar(s.bonds_.neighbor), ar(s.bonds_.length), ar(s.bonds_.weight);
-    ar(s.bonds_.intact), ar(s.bonds_.stiffness), ar(s.bonds_.live);
-    rows(s.dual_.rows, ar);
-    ar(s.dual_.bond);
-    rows(s.il_.rows, ar);
-    ar(s.il_.other), ar(s.il_.inv_length), ar(s.il_.coefficient), ar(s.il_.break_at);
-    ar(s.il_.own_bond), ar(s.il_.dual_bond), ar(s.il_.alive), ar(s.il_.live);
+    auto& b = s.bonds_;
+    rows(b.rows, ar);
+    ar(b.other), ar(b.inv_length), ar(b.flags), ar(b.factor), ar(b.stiffness);
+    ar(b.stiffness_scale), ar(b.break_ratio2), ar(b.live), ar(b.own_bonds);
     loads_constants_and_clocks(s, ar);
   }
 
-  /// What a time step changes between edits (the guard's copy): the bonds' and rows' intact
-  /// states, loads, per-particle constants, clocks, ledgers and counters, with every particle
-  /// field (save_step). The rows' coefficients and break thresholds follow from the alive bits
-  /// and are recomputed on loading; the rest of the rows and bonds only changes in an edit.
+  /// What a time step changes between edits (the guard's copy): the bonds' intact states (the
+  /// rows' flags), loads, per-particle constants, clocks, ledgers and counters, with every
+  /// state field of the particles (save_step). The stiffness follows from the flags and is
+  /// recomputed on loading; the rest of the rows only changes in an edit.
   template <class Sim, class Ar>
   static void step_members(Sim& s, Ar& ar) {
-    ar(s.bonds_.intact), ar(s.il_.alive);
+    ar(s.bonds_.flags);
     loads_constants_and_clocks(s, ar);
   }
 
+  /// The particle fields, or with `state_only` those of FieldGroup::State (a time step changes
+  /// nothing else; geometry changes only in an edit).
   template <class Ar>
-  static void save_fields(const Simulation& s, Ar& ar) {
+  static void save_fields(const Simulation& s, Ar& ar, bool state_only = false) {
     ar(static_cast<std::int32_t>(s.p_.dim()));
     // fields() hands out pointers for writing; here they are only read.
     for (const auto& f : const_cast<ParticleStore&>(s.p_).fields()) {
+      if (state_only && f.group != FieldGroup::State) continue;
       ar(std::string(f.name));
       std::visit([&ar](const auto* data) { ar(*data); }, f.data);
     }
   }
 
-  static void load_fields(Simulation& s, archive::Reader& ar) {
+  static void load_fields(Simulation& s, archive::Reader& ar, bool state_only = false) {
     std::int32_t dim = 0;
     ar(dim);
     if (dim != s.p_.dim())
       ar.fail(fmt::format("it is a {}D run, this scene is {}D", dim, s.p_.dim()));
     for (auto& f : s.p_.fields()) {
+      if (state_only && f.group != FieldGroup::State) continue;
       std::string name;
       ar(name);
       if (name != f.name)
@@ -102,7 +102,7 @@ struct CheckpointAccess {
 
   template <class Ar>
   static void save_step(const Simulation& s, Ar& ar) {
-    save_fields(s, ar);
+    save_fields(s, ar, true);
     step_members(s, ar);
     save_timers(s, ar);
   }
@@ -122,18 +122,14 @@ struct CheckpointAccess {
 
   /// Overlays a save_step of this simulation's discretisation (same bonds and rows).
   static void load_step(Simulation& s, archive::Reader& ar) {
-    load_fields(s, ar);
+    load_fields(s, ar, true);
     step_members(s, ar);
     load_timers(s, ar);
     if (ar.remaining() != 0) ar.fail("bytes left after the step state");
-    auto& il = s.il_;
     if (!particles_fit(s) || s.bonds_.rows.rows() != s.p_.size() ||
-        s.il_.rows.rows() != s.p_.size() || s.bonds_.intact.size() != s.bonds_.neighbor.size() ||
-        il.alive.size() != il.other.size())
+        s.bonds_.flags.size() != s.bonds_.other.size())
       ar.fail("its arrays do not fit this discretisation");
-    const auto in = s.row_inputs();
-    for (std::size_t i = 0; i < s.p_.size(); ++i)
-      for (auto k = il.begin(i); k < il.end(i); ++k) refresh_entry(il, i, k, in);
+    refresh_rows(s.bonds_, s.bond_constants(), false);
     s.touched_.assign(s.p_.size(), 0);
     s.edit_.reset();
     s.fused_energy_ = {};
@@ -156,7 +152,7 @@ struct CheckpointAccess {
     s.edit_.reset();
     s.fused_energy_ = {};
     // Damage is kept current by the stepper; format-4 files may hold an older value.
-    if (s.setup_.effects.fracture) compute_damage(s.bonds_, s.p_);
+    if (s.setup_.effects.fracture) compute_damage(s.bonds_, s.p_, s.setup_.partial_volume);
   }
 
   template <class V>
@@ -198,27 +194,17 @@ struct CheckpointAccess {
     if (!particles_fit(s)) ar.fail("its particle arrays do not fit together");
     const auto n = static_cast<std::int64_t>(s.p_.size());
     const auto& b = s.bonds_;
-    const std::size_t slots = b.neighbor.size();
-    const auto& il = s.il_;
-    const std::size_t entries = il.other.size();
+    const std::size_t slots = b.other.size();
     const auto& l = s.loads_;
-    const bool ok = rows_fit(b.rows, s.p_.size(), slots) && b.owner.size() == slots &&
-                    b.length.size() == slots && b.weight.size() == slots &&
-                    b.intact.size() == slots && b.stiffness.size() == slots &&
-                    in_range(b.owner, -1, n) && in_range(b.neighbor, -1, n) &&
-                    rows_fit(s.dual_.rows, s.p_.size(), s.dual_.bond.size()) &&
-                    in_range(s.dual_.bond, -1, static_cast<std::int64_t>(slots)) &&
-                    rows_fit(il.rows, s.p_.size(), entries) && il.inv_length.size() == entries &&
-                    il.coefficient.size() == entries && il.break_at.size() == entries &&
-                    il.own_bond.size() == entries && il.dual_bond.size() == entries &&
-                    il.alive.size() == entries && in_range(il.other, -1, n) &&
-                    in_range(il.own_bond, -1, static_cast<std::int64_t>(slots)) &&
-                    in_range(il.dual_bond, -1, static_cast<std::int64_t>(slots)) &&
-                    in_range(l.prescribed, 0, n) && in_range(l.loaded, 0, n) &&
-                    l.mask.size() == l.prescribed.size() &&
+    const bool ok = rows_fit(b.rows, s.p_.size(), slots) && b.inv_length.size() == slots &&
+                    b.flags.size() == slots && b.stiffness.size() == slots &&
+                    (b.factor.empty() || b.factor.size() == slots) &&
+                    b.break_ratio2.size() == s.p_.size() && in_range(b.other, -1, n) &&
+                    b.stiffness_scale > 0.0 && in_range(l.prescribed, 0, n) &&
+                    in_range(l.loaded, 0, n) && l.mask.size() == l.prescribed.size() &&
                     l.prescribed_velocity.size() == l.prescribed.size() &&
                     l.body_force.size() == l.loaded.size();
-    if (!ok) ar.fail("its bond, dual, interaction or load arrays do not fit together");
+    if (!ok) ar.fail("its bond-row or load arrays do not fit together");
   }
 };
 

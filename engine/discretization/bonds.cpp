@@ -1,13 +1,13 @@
-// Bond and dual-bond construction (docs/theory.md §2; §7 = CMAME 2017 eq. A.1 and App. A; §8
-// pre-cracks).
+// Bond rows: construction, renumbering and the replacement of own bonds (docs/theory.md §2, §18;
+// §7 = CMAME 2017 eq. A.1 and App. A; §8 pre-cracks).
 #include "engine/discretization/bonds.hpp"
-#include "engine/base/parallel.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <numeric>
 
 #include "engine/base/errors.hpp"
+#include "engine/base/parallel.hpp"
 #include "engine/discretization/neighbor_search.hpp"
 #include "geometry/intersection.hpp"
 
@@ -23,21 +23,25 @@ double partial_volume_factor(PartialVolume rule, int dim, double distance, doubl
   return (horizon + r_j - distance) / (2.0 * r_j);
 }
 
+double bond_weight(const ParticleStore& p, PartialVolume rule, std::size_t owner,
+                   std::size_t neighbor, double length) {
+  const double r = rule == PartialVolume::Exact ? p.radius[neighbor] : 0.5 * p.spacing[neighbor];
+  return partial_volume_factor(rule, p.dim(), length, p.horizon[owner], r);
+}
+
 void set_particle_radii(ParticleStore& p, const Section& section) {
   for (std::size_t i = 0; i < p.size(); ++i)
     p.radius[i] = section.equal_measure_radius(p.volume[i]);
 }
 
-namespace {
-
-bool crosses_any(const std::vector<geometry::Crack>& cracks, const geometry::Vec3& a,
-                 const geometry::Vec3& b, int dim) {
-  for (const auto& c : cracks)
-    if (geometry::crosses(c, a, b, dim)) return true;
-  return false;
+double inverse_reference_length(const ParticleStore& p, std::size_t i, std::size_t j) {
+  double d2 = 0.0;
+  for (int a = 0; a < p.dim(); ++a) {
+    const double d = p.reference_position[a][j] - p.reference_position[a][i];
+    d2 += d * d;
+  }
+  return 1.0 / std::sqrt(d2);
 }
-
-}  // namespace
 
 BondRowBuilder::BondRowBuilder(const ParticleStore& p, PartialVolume rule,
                                const std::vector<geometry::Crack>& cracks, double reach)
@@ -59,156 +63,45 @@ double BondRowBuilder::search_radius(std::size_t i) const {
   return (p_.horizon[i] + reach_) * (1.0 + 1e-9);
 }
 
-void BondRowBuilder::keep_bonds(std::size_t i, std::vector<std::int32_t>& cand,
-                                std::vector<double>* len, std::vector<double>* w) const {
-  const auto& X = p_.reference_position;
-  const double delta = p_.horizon[i];
+bool BondRowBuilder::bonded(std::size_t i, std::size_t j) const {
+  if (i == j) return false;
+  const double inv = inverse_reference_length(p_, i, j);
+  if (!std::isfinite(inv)) return false;  // coincident particles (refused at load time)
+  if (!(bond_weight(p_, pv_, i, j, 1.0 / inv) > 0.0)) return false;
+  // One crossing test per pair, from the lower index: both bonds of a pair see the same answer.
+  const auto lo = std::min(i, j), hi = std::max(i, j);
+  const auto a = point_of(p_.reference_position, lo), b = point_of(p_.reference_position, hi);
+  for (const auto& c : cracks_)
+    if (geometry::crosses(c, a, b, p_.dim())) return false;
+  return true;
+}
+
+void BondRowBuilder::keep_bonds(std::size_t i, std::vector<std::int32_t>& cand) const {
   std::size_t kept = 0;
-  const auto xi = point_of(X, i);
-  for (const auto j : cand) {
-    double d2 = 0.0;
-    for (int a = 0; a < p_.dim(); ++a) {
-      const double d = X[a][j] - X[a][i];
-      d2 += d * d;
-    }
-    const double dist = std::sqrt(d2);
-    const double r_j = pv_ == PartialVolume::Exact ? p_.radius[j] : 0.5 * p_.spacing[j];
-    const double beta = partial_volume_factor(pv_, p_.dim(), dist, delta, r_j);
-    if (beta <= 0.0 || dist == 0.0) continue;
-    if (!cracks_.empty() && crosses_any(cracks_, xi, point_of(X, j), p_.dim())) continue;
-    cand[kept++] = j;
-    if (len) len->push_back(dist), w->push_back(beta);
-  }
+  for (const auto j : cand)
+    if (bonded(i, static_cast<std::size_t>(j))) cand[kept++] = j;
   cand.resize(kept);
 }
 
-void BondList::fit_arena() {
+std::int64_t BondRows::find(std::size_t i, std::int32_t j) const {
+  const auto first = other.begin() + begin(i), last = other.begin() + end(i);
+  const auto it = std::lower_bound(first, last, j);
+  return it != last && *it == j ? it - other.begin() : -1;
+}
+
+std::int32_t BondRows::own_count(std::size_t i) const {
+  std::int32_t n = 0;
+  for (auto k = begin(i); k < end(i); ++k) n += flags[k] & kOwn ? 1 : 0;
+  return n;
+}
+
+void BondRows::fit_arena() {
   const auto n = static_cast<std::size_t>(rows.arena);
-  owner.resize(n, -1);
-  neighbor.resize(n, -1);
-  length.resize(n, 0.0);
-  weight.resize(n, 0.0);
-  intact.resize(n, 0);
-  stiffness.resize(n, 1.0);
-}
-
-BondList build_bonds(const ParticleStore& p, PartialVolume pv,
-                     const std::vector<geometry::Crack>& cracks) {
-  const std::size_t n = p.size();
-  const BondRowBuilder rows(p, pv, cracks, BondRowBuilder::exact_reach(p, pv));
-  NeighborSearch search(p.reference_position, p.dim());
-  std::vector<std::int32_t> counts(n, 0);
-  // Pass 1: count each row (parallel, independent rows).
-#pragma omp parallel if (static_cast <std::int64_t>(n) >= kParallelMinParticles)
-  {
-    std::vector<std::int32_t> cand;
-#pragma omp for schedule(dynamic, 256)
-    for (std::int64_t i = 0; i < static_cast<std::int64_t>(n); ++i) {
-      const auto u = static_cast<std::size_t>(i);
-      search.within(u, rows.search_radius(u), cand);
-      rows.keep_bonds(u, cand, nullptr, nullptr);
-      counts[u] = static_cast<std::int32_t>(cand.size());
-    }
-  }
-  std::int64_t total = 0;
-  for (const auto c : counts) total += c;
-  if (total > static_cast<std::int64_t>(INT32_MAX))
-    throw EngineError("more than 2^31 bonds: not supported by 32-bit bond ids");
-  BondList b;
-  b.rows = RowIndex::packed(counts);
-  b.fit_arena();
-  std::fill(b.intact.begin(), b.intact.end(), 1);
-  b.live = total;
-  // Pass 2: fill each row at its start (same candidates, same order: deterministic).
-#pragma omp parallel if (static_cast <std::int64_t>(n) >= kParallelMinParticles)
-  {
-    std::vector<std::int32_t> cand;
-    std::vector<double> len, w;
-#pragma omp for schedule(dynamic, 256)
-    for (std::int64_t i = 0; i < static_cast<std::int64_t>(n); ++i) {
-      const auto u = static_cast<std::size_t>(i);
-      len.clear(), w.clear();
-      search.within(u, rows.search_radius(u), cand);
-      rows.keep_bonds(u, cand, &len, &w);
-      const auto o = static_cast<std::size_t>(b.begin(u));
-      for (std::size_t k = 0; k < cand.size(); ++k) {
-        b.owner[o + k] = static_cast<std::int32_t>(i);
-        b.neighbor[o + k] = cand[k];
-        b.length[o + k] = len[k];
-        b.weight[o + k] = w[k];
-      }
-    }
-  }
-  return b;
-}
-
-DualList build_dual(const BondList& bonds) {
-  const std::size_t n = bonds.particles();
-  std::vector<std::int32_t> counts(n, 0);
-  for (std::size_t i = 0; i < n; ++i)
-    for (auto b = bonds.begin(i); b < bonds.end(i); ++b)
-      ++counts[static_cast<std::size_t>(bonds.neighbor[b])];
-  DualList d;
-  d.rows = RowIndex::packed(counts);
-  d.bond.resize(static_cast<std::size_t>(d.rows.arena));
-  std::fill(d.rows.count.begin(), d.rows.count.end(), 0);
-  // Slots in increasing id order: every dual row comes out sorted by bond id.
-  for (std::size_t b = 0; b < bonds.slots(); ++b) {
-    const auto j = bonds.neighbor[b];
-    if (j < 0) continue;
-    auto& c = d.rows.count[static_cast<std::size_t>(j)];
-    d.bond[static_cast<std::size_t>(d.rows.start[static_cast<std::size_t>(j)] + c++)] =
-        static_cast<BondId>(b);
-  }
-  return d;
-}
-
-void DualList::add(std::size_t j, BondId b) {
-  const auto old_start = rows.start[j];
-  const auto c = rows.count[j];
-  const auto s = rows.make_room(j, c + 1);
-  if (bond.size() < static_cast<std::size_t>(rows.arena))
-    bond.resize(static_cast<std::size_t>(rows.arena), -1);
-  if (s != old_start) std::copy_n(bond.begin() + old_start, c, bond.begin() + s);
-  bond[static_cast<std::size_t>(s + c)] = b;
-  ++rows.count[j];
-}
-
-void DualList::remove(std::size_t j, BondId b) {
-  const auto first = bond.begin() + begin(j), last = bond.begin() + end(j);
-  const auto it = std::find(first, last, b);
-  if (it == last) throw EngineError("dual list: bond not found in the dual row of its neighbour");
-  std::copy(it + 1, last, it);
-  --rows.count[j];
-}
-
-BondList renumbered_bonds(const BondList& bonds, const std::vector<std::int32_t>& order,
-                          const std::vector<std::int32_t>& new_index) {
-  const std::size_t n = order.size();
-  BondList b;
-  std::vector<std::int32_t> counts(n);
-  for (std::size_t k = 0; k < n; ++k) counts[k] = bonds.rows.count[order[k]];
-  b.rows = RowIndex::packed(counts);
-  b.fit_arena();
-  b.live = b.rows.arena;
-  std::vector<std::pair<std::int32_t, std::int64_t>> row;
-  for (std::size_t k = 0; k < n; ++k) {
-    const auto i = static_cast<std::size_t>(order[k]);
-    row.clear();
-    for (auto e = bonds.begin(i); e < bonds.end(i); ++e)
-      row.emplace_back(new_index[static_cast<std::size_t>(bonds.neighbor[e])], e);
-    std::sort(row.begin(), row.end());
-    auto s = static_cast<std::size_t>(b.begin(k));
-    for (const auto& [j, e] : row) {
-      b.owner[s] = static_cast<std::int32_t>(k);
-      b.neighbor[s] = j;
-      b.length[s] = bonds.length[e];
-      b.weight[s] = bonds.weight[e];
-      b.stiffness[s] = bonds.stiffness[e];
-      b.intact[s++] = bonds.intact[e];
-    }
-  }
-  return b;
+  other.resize(n, -1);
+  inv_length.resize(n, 0.0);
+  flags.resize(n, 0);
+  stiffness.resize(n, 0.0f);
+  if (!factor.empty()) factor.resize(n, 1.0f);
 }
 
 namespace {
@@ -216,15 +109,141 @@ template <class T>
 std::size_t held(const std::vector<T>& v) {
   return v.capacity() * sizeof(T);
 }
+
+/// Sorts the entries of row i by `other` (rows of a few hundred entries: an index sort).
+void sort_row(BondRows& b, std::size_t i, std::vector<std::int64_t>& order,
+              std::vector<std::int32_t>& o, std::vector<double>& inv,
+              std::vector<std::uint8_t>& fl) {
+  const auto s = b.begin(i), n = b.end(i) - s;
+  order.resize(static_cast<std::size_t>(n));
+  std::iota(order.begin(), order.end(), s);
+  std::sort(order.begin(), order.end(),
+            [&](std::int64_t x, std::int64_t y) { return b.other[x] < b.other[y]; });
+  o.clear(), inv.clear(), fl.clear();
+  for (const auto k : order)
+    o.push_back(b.other[k]), inv.push_back(b.inv_length[k]), fl.push_back(b.flags[k]);
+  std::copy(o.begin(), o.end(), b.other.begin() + s);
+  std::copy(inv.begin(), inv.end(), b.inv_length.begin() + s);
+  std::copy(fl.begin(), fl.end(), b.flags.begin() + s);
+}
 }  // namespace
 
-std::size_t BondList::bytes() const {
-  return rows.bytes() + held(owner) + held(neighbor) + held(length) + held(weight) + held(intact) +
-         held(stiffness);
+std::size_t BondRows::bytes() const {
+  return rows.bytes() + held(other) + held(inv_length) + held(flags) + held(factor) +
+         held(stiffness) + held(break_ratio2);
 }
 
-std::size_t DualList::bytes() const {
-  return rows.bytes() + held(bond);
+BondRows build_bond_rows(const ParticleStore& p, PartialVolume pv,
+                         const std::vector<geometry::Crack>& cracks) {
+  const auto n = static_cast<std::int64_t>(p.size());
+  const BondRowBuilder builder(p, pv, cracks, BondRowBuilder::exact_reach(p, pv));
+  NeighborSearch search(p.reference_position, p.dim());
+  std::vector<std::int32_t> own(static_cast<std::size_t>(n), 0), dual_only(own);
+  const bool parallel = n >= kParallelMinParticles;
+  // Pass 1: own bonds per row, and the dual-only entries they give their neighbours' rows (a bond
+  // i→j whose pair has no bond j→i).
+#pragma omp parallel if (parallel)
+  {
+    std::vector<std::int32_t> cand;
+#pragma omp for schedule(dynamic, 256)
+    for (std::int64_t i = 0; i < n; ++i) {
+      const auto u = static_cast<std::size_t>(i);
+      search.within(u, builder.search_radius(u), cand);
+      builder.keep_bonds(u, cand);
+      own[u] = static_cast<std::int32_t>(cand.size());
+      for (const auto j : cand)
+        if (!builder.bonded(static_cast<std::size_t>(j), u)) {
+#pragma omp atomic
+          ++dual_only[static_cast<std::size_t>(j)];
+        }
+    }
+  }
+  std::vector<std::int32_t> counts(own.size());
+  std::int64_t own_total = 0;
+  for (std::size_t i = 0; i < own.size(); ++i)
+    counts[i] = own[i] + dual_only[i], own_total += own[i];
+  BondRows b;
+  b.rows = RowIndex::packed(counts);
+  b.fit_arena();
+  b.live = b.rows.arena;
+  b.own_bonds = own_total;
+  b.break_ratio2.assign(own.size(), HUGE_VAL);       // set by engine/physics/interactions
+  std::fill(dual_only.begin(), dual_only.end(), 0);  // now the cursors of the dual-only entries
+  // Pass 2: each row's own bonds at its start, in neighbour order; a dual-only entry goes after
+  // the own ones of its row, in the order threads reach it (pass 3 sorts the rows).
+#pragma omp parallel if (parallel)
+  {
+    std::vector<std::int32_t> cand;
+#pragma omp for schedule(dynamic, 256)
+    for (std::int64_t i = 0; i < n; ++i) {
+      const auto u = static_cast<std::size_t>(i);
+      search.within(u, builder.search_radius(u), cand);
+      builder.keep_bonds(u, cand);
+      auto k = b.begin(u);
+      for (const auto j : cand) {
+        const auto v = static_cast<std::size_t>(j);
+        const double inv = inverse_reference_length(p, u, v);
+        const bool pair = builder.bonded(v, u);
+        b.other[k] = j, b.inv_length[k] = inv;
+        b.flags[k++] =
+            static_cast<std::uint8_t>(kOwn | kOwnIntact | (pair ? kDual | kDualIntact : 0));
+        if (pair) continue;
+        std::int32_t slot = 0;
+#pragma omp atomic capture
+        slot = dual_only[v]++;
+        const auto e = b.begin(v) + own[v] + slot;
+        b.other[e] = static_cast<std::int32_t>(i), b.inv_length[e] = inv;
+        b.flags[e] = kDual | kDualIntact;
+      }
+    }
+  }
+  // Pass 3: rows in neighbour order (only rows that received dual-only entries need it).
+#pragma omp parallel if (parallel)
+  {
+    std::vector<std::int64_t> order;
+    std::vector<std::int32_t> o;
+    std::vector<double> inv;
+    std::vector<std::uint8_t> fl;
+#pragma omp for schedule(dynamic, 256)
+    for (std::int64_t i = 0; i < n; ++i)
+      if (dual_only[static_cast<std::size_t>(i)] > 0)
+        sort_row(b, static_cast<std::size_t>(i), order, o, inv, fl);
+  }
+  return b;
+}
+
+BondRows renumbered_rows(const BondRows& rows, const std::vector<std::int32_t>& order,
+                         const std::vector<std::int32_t>& new_index) {
+  const std::size_t n = order.size();
+  BondRows b;
+  std::vector<std::int32_t> counts(n);
+  for (std::size_t k = 0; k < n; ++k) counts[k] = rows.rows.count[order[k]];
+  b.rows = RowIndex::packed(counts);
+  if (!rows.factor.empty()) b.factor.assign(1, 1.0f);  // fit_arena sizes a non-empty one
+  b.fit_arena();
+  b.stiffness_scale = rows.stiffness_scale;
+  b.break_ratio2.resize(n);
+  b.live = b.rows.arena;
+  b.own_bonds = rows.own_bonds;
+  std::vector<std::pair<std::int32_t, std::int64_t>> row;
+  for (std::size_t k = 0; k < n; ++k) {
+    const auto i = static_cast<std::size_t>(order[k]);
+    b.break_ratio2[k] = rows.break_ratio2[i];
+    row.clear();
+    for (auto e = rows.begin(i); e < rows.end(i); ++e)
+      row.emplace_back(new_index[static_cast<std::size_t>(rows.other[e])], e);
+    std::sort(row.begin(), row.end());
+    auto s = static_cast<std::size_t>(b.begin(k));
+    for (const auto& [j, e] : row) {
+      b.other[s] = j;
+      b.inv_length[s] = rows.inv_length[e];
+      b.flags[s] = rows.flags[e];
+      b.stiffness[s] = rows.stiffness[e];
+      if (!b.factor.empty()) b.factor[s] = rows.factor[e];
+      ++s;
+    }
+  }
+  return b;
 }
 
 }  // namespace dhpd

@@ -1,7 +1,13 @@
-// Bonds in flat CSR per owner plus the dual-horizon lists (docs/theory.md §2, §7, §8).
-// Bond b (owner i, neighbour j) is created for every j with β_ij > 0 whose reference segment
-// crosses no crack: j in H_i for none/linear, and up to δ_i + r_j for exact (a particle partly
-// inside the horizon). The dual list of j holds the ids of the bonds others own on j.
+// Bonds stored in rows, one per particle: the one bond store of a run (docs/theory.md §2, §4, §18).
+// Row i lists, once each and in increasing index, every particle j that i shares a bond with in
+// either direction: i's own bond i→j (j ∈ H_i, owner i) and/or the dual bond j→i (i ∈ H_j, owner
+// j). Bond i→j exists for every j with β_ij > 0 whose reference segment crosses no crack: j in H_i
+// for none/linear, up to δ_i + r_j for exact (a particle partly inside the horizon). The own bond
+// of row i's entry j is the dual bond of row j's entry i: both rows hold its intact state and
+// reach the same decision from the same bits, so a row is only ever written by its own thread.
+// Per entry the store keeps what cannot be derived cheaply: the other particle, 1/|ξ|, the flags,
+// the pair stiffness of the entry's intact bonds (single precision, engine/physics/interactions)
+// and, near level interfaces, the own bond's stiffness factor; β is recomputed where needed.
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -13,71 +19,102 @@
 
 namespace dhpd {
 
-using BondId = std::int32_t;
+/// Bits of BondRows::flags: which bonds of the pair exist and which are still intact (μ = 1).
+enum BondFlags : std::uint8_t { kOwn = 1, kDual = 2, kOwnIntact = 4, kDualIntact = 8 };
 
-/// A bond's id is its slot in the arena. Slots outside every live row are garbage (owner and
-/// neighbour −1) until compaction.
-struct BondList {
-  RowIndex rows;                    ///< own bonds of particle i: [rows.begin(i), rows.end(i))
-  std::vector<std::int32_t> owner;  ///< owner of each slot (O(1) lookup from a bond id)
-  std::vector<std::int32_t> neighbor;
-  std::vector<double> length;        ///< |ξ| in the reference configuration
-  std::vector<double> weight;        ///< partial-volume factor β_ij
-  std::vector<std::uint8_t> intact;  ///< μ_ij: 1 until the bond breaks, never healed
-  /// 1 + λ_b: the factor on the bond's stiffness that makes level interfaces consistent
-  /// (engine/interface_consistency.hpp); 1 away from horizon jumps.
-  std::vector<double> stiffness;
-  std::int64_t live = 0;  ///< bonds in live rows
+struct BondRows {
+  RowIndex rows;
+  std::vector<std::int32_t> other;  ///< the particle at the other end (rows sorted by it)
+  std::vector<double> inv_length;   ///< 1/|ξ|: the same bits in both rows of a pair
+  std::vector<std::uint8_t> flags;  ///< BondFlags
+  /// φ_ij = 1 + λ of the own bond (engine/physics/interface_consistency.hpp); empty while every
+  /// factor is 1 (no level interface has been corrected).
+  std::vector<float> factor;
+  /// K of the entry's intact bonds divided by `stiffness_scale`, without the other's volume: for
+  /// dual-horizon C_i β_ij φ_ij μ_ij + C_j β_ji φ_ji μ_ji, the same bits in both rows of a pair
+  /// (engine/physics/interactions.hpp). 0 once both are broken.
+  std::vector<float> stiffness;
+  /// A power of two fixed when the rows are built, so that stiffness stays well inside the range
+  /// of a float for any micromodulus: K = stiffness × stiffness_scale exactly.
+  double stiffness_scale = 1.0;
+  /// Per row: the smallest (1 + s0)² of the row's bonds that can break (+∞ for none). A squared
+  /// stretch ratio below it breaks nothing in the row (the kernel's fast test).
+  std::vector<double> break_ratio2;
+  std::int64_t live = 0;       ///< entries in live rows
+  std::int64_t own_bonds = 0;  ///< own bonds in live rows: the directed bonds of the run
 
-  std::size_t size() const { return static_cast<std::size_t>(live); }
-  std::size_t slots() const { return neighbor.size(); }
+  /// Bonds in live rows (own bonds: each directed bond once).
+  std::size_t bond_count() const { return static_cast<std::size_t>(own_bonds); }
   std::size_t particles() const { return rows.rows(); }
   std::int64_t begin(std::size_t i) const { return rows.begin(i); }
   std::int64_t end(std::size_t i) const { return rows.end(i); }
-  /// Resizes the slot arrays to the arena (new slots are garbage).
+  bool has_own(std::int64_t k) const { return flags[k] & kOwn; }
+  bool has_dual(std::int64_t k) const { return flags[k] & kDual; }
+  bool own_intact(std::int64_t k) const { return flags[k] & kOwnIntact; }
+  bool dual_intact(std::int64_t k) const { return flags[k] & kDualIntact; }
+  /// |ξ| of entry k (every loop derives it this way, so it has the same bits everywhere).
+  double length(std::int64_t k) const { return 1.0 / inv_length[k]; }
+  /// φ of the own bond of entry k (1 while no factor is stored).
+  double own_factor(std::int64_t k) const { return factor.empty() ? 1.0 : factor[k]; }
+  /// The entry of j in row i (rows are sorted by `other`), or −1.
+  std::int64_t find(std::size_t i, std::int32_t j) const;
+  /// Own bonds of row i.
+  std::int32_t own_count(std::size_t i) const;
+  /// Resizes the entry arrays to the arena (new slots are empty: other −1, no flags).
   void fit_arena();
-  /// Bytes held by the arrays (capacities).
+  /// Bytes held by the arrays (capacities: what the allocator gave).
   std::size_t bytes() const;
 };
 
-struct DualList {
-  RowIndex rows;             ///< dual row of particle j: the bonds others own on j
-  std::vector<BondId> bond;  ///< bond ids (sorted by id after a from-scratch build)
-
-  std::int64_t begin(std::size_t j) const { return rows.begin(j); }
-  std::int64_t end(std::size_t j) const { return rows.end(j); }
-  /// Adds bond b to j's dual row (moving the row when it is full).
-  void add(std::size_t j, BondId b);
-  /// Removes bond b from j's dual row, keeping the order of the others.
-  void remove(std::size_t j, BondId b);
-  /// Bytes held by the arrays (capacities).
-  std::size_t bytes() const;
-};
+/// Calls f(k, j) for every own bond of particle i: entry k of row i, neighbour j.
+template <class F>
+void for_each_own_bond(const BondRows& b, std::size_t i, F&& f) {
+  for (auto k = b.begin(i); k < b.end(i); ++k)
+    if (b.flags[k] & kOwn) f(k, static_cast<std::size_t>(b.other[k]));
+}
 
 /// Partial-volume factor β for a neighbour at distance `distance` with radius r_j (docs/theory.md
 /// §7): r_j = Δx_j/2 for linear, the equal-measure radius for exact; unused by none.
 double partial_volume_factor(PartialVolume rule, int dim, double distance, double horizon,
                              double r_j);
 
+/// β of the bond owner → neighbour at reference length `length` (the store's radius or half
+/// spacing of the neighbour, the owner's horizon).
+double bond_weight(const ParticleStore& p, PartialVolume rule, std::size_t owner,
+                   std::size_t neighbor, double length);
+
 /// Fills p.radius with each particle's equal-measure radius (Section::equal_measure_radius).
 void set_particle_radii(ParticleStore& p, const Section& section);
 
-/// Builds every particle's bonds from the reference positions, horizons and spacings (and, for
-/// exact partial volumes, the radii: every radius must be > 0).
-BondList build_bonds(const ParticleStore& particles, PartialVolume rule,
-                     const std::vector<geometry::Crack>& cracks);
+/// The rows of every particle from the reference positions, horizons and spacings (and, for
+/// exact partial volumes, the radii: every radius must be > 0), all bonds intact. Stiffness and
+/// break thresholds are left for engine/physics/interactions to fill. Built in two passes over
+/// the own bonds without a second copy of them; the same rows for any thread count.
+BondRows build_bond_rows(const ParticleStore& particles, PartialVolume rule,
+                         const std::vector<geometry::Crack>& cracks);
 
-/// The dual horizon of each particle: the bonds that others own on it.
-DualList build_dual(const BondList& bonds);
+/// The rows after the particles are renumbered (order[k]: old index of new particle k, new_index
+/// its inverse), packed without spare capacity, each row sorted by its new `other`; every entry
+/// keeps its length, flags, factor and stiffness.
+BondRows renumbered_rows(const BondRows& rows, const std::vector<std::int32_t>& order,
+                         const std::vector<std::int32_t>& new_index);
 
-/// The bonds of `bonds` after the particles are renumbered (order[k]: old index of new particle
-/// k, new_index its inverse), packed without spare capacity, each row sorted by neighbour as a
-/// from-scratch build leaves it; every bond keeps its length, weight, stiffness and state.
-BondList renumbered_bonds(const BondList& bonds, const std::vector<std::int32_t>& order,
-                          const std::vector<std::int32_t>& new_index);
+/// One own bond to write: neighbour and intact state.
+struct NewBond {
+  std::int32_t neighbor;
+  bool intact;
+};
 
-/// The bonds particle i would get from scratch, found with `search_within(i, radius, out)`
-/// (sorted candidate indices): neighbours, lengths and weights appended to the vectors.
+/// Replaces the own bonds of the `owners` (ascending) by `bonds[k]` for owners[k] (each sorted by
+/// neighbour), and the dual side of those bonds in the neighbours' rows; entries left with no bond
+/// go. Lengths come from the reference positions. Returns every row that changed, ascending; their
+/// stiffness and break thresholds must be derived again. (The incremental rebuild of refine/.)
+std::vector<std::int32_t> replace_own_bonds(BondRows& rows, const ParticleStore& p,
+                                            const std::vector<std::int32_t>& owners,
+                                            const std::vector<std::vector<NewBond>>& bonds);
+
+/// The own bonds particle i would get from scratch, found with `search_within(i, radius, out)`
+/// (sorted candidate indices).
 struct BondRowBuilder {
   /// `reach`: how far past δ_i a neighbour can still overlap i's horizon (an upper bound on the
   /// radii for exact partial volumes, see exact_reach; 0 otherwise).
@@ -88,8 +125,9 @@ struct BondRowBuilder {
   /// Radius to search around i so that every j with β_ij > 0 is found.
   double search_radius(std::size_t i) const;
   /// Keeps the candidates of `cand` that become bonds of i (in order).
-  void keep_bonds(std::size_t i, std::vector<std::int32_t>& cand, std::vector<double>* length,
-                  std::vector<double>* weight) const;
+  void keep_bonds(std::size_t i, std::vector<std::int32_t>& cand) const;
+  /// Whether i has a bond to j (β_ij > 0 at the rows' length, no crack between them).
+  bool bonded(std::size_t i, std::size_t j) const;
 
  private:
   const ParticleStore& p_;
@@ -97,5 +135,8 @@ struct BondRowBuilder {
   double reach_ = 0.0;
   const std::vector<geometry::Crack>& cracks_;
 };
+
+/// 1/|ξ| of the pair (i, j) from the reference positions, the same bits for (j, i).
+double inverse_reference_length(const ParticleStore& p, std::size_t i, std::size_t j);
 
 }  // namespace dhpd

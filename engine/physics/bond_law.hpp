@@ -1,6 +1,6 @@
 // The bond law of bond-based peridynamics (docs/theory.md §3): stretch, break test, pair force
 // factor and pair energy of one bond. The one place these are written: the force, fracture and
-// energy loops, the interaction rows and refine/ all call it.
+// energy loops, the bond rows' stiffness and refine/ all call it.
 #pragma once
 #include <cmath>
 #include <cstddef>
@@ -38,26 +38,23 @@ inline double stretch(double current_length2, double length) {
   return std::sqrt(current_length2) / length - 1.0;
 }
 
-/// The squared current length at which a bond of reference length |ξ| reaches the critical
-/// stretch s0: ((1 + s0) |ξ|)² (the interaction rows store it per bond).
-inline double critical_length2(double length, double s0) {
-  const double limit = (1.0 + s0) * length;
+/// The squared stretch ratio (|y|/|ξ|)² from the squared current length and 1/|ξ|, multiplied in
+/// this order: the fused break test of the force kernel and every other break decision use these
+/// bits, so both rows of a pair decide alike (docs/theory.md §18).
+inline double stretch_ratio2(double current_length2, double inverse_length) {
+  return current_length2 * inverse_length * inverse_length;
+}
+
+/// (1 + s0)²: the squared stretch ratio at which a bond reaches the critical stretch s0.
+inline double critical_ratio2(double s0) {
+  const double limit = 1.0 + s0;
   return limit * limit;
 }
 
-/// Whether a bond has reached the critical stretch s0 (s ≥ s0), compared on squared lengths:
-/// |y|² ≥ ((1 + s0) |ξ|)², no square root. s0 = +∞ (no G0) never breaks.
-inline bool reaches_critical_stretch(double current_length2, double length, double s0) {
-  return current_length2 >= critical_length2(length, s0);
-}
-
-/// The coefficient c of a bond in an interaction row: force density per unit stretch on the row's
-/// particle, c = m C β φ V_other μ, with m = 1 for an own or dual bond of DH-PD and 2 for the
-/// classical model's own bond, C the owner's micromodulus, β the partial volume, φ the
-/// level-interface factor, μ = 1 intact, 0 broken (docs/theory.md §4).
-inline double coefficient(double model_factor, double owner_micromodulus, double weight,
-                          double stiffness, double other_volume, std::uint8_t intact) {
-  return model_factor * owner_micromodulus * weight * stiffness * other_volume * intact;
+/// Whether a bond has reached the critical stretch s0 (s ≥ s0), compared on squared ratios:
+/// (|y|/|ξ|)² ≥ (1 + s0)², no square root. s0 = +∞ (no G0) never breaks.
+inline bool reaches_critical_stretch(double ratio2, double s0) {
+  return ratio2 >= critical_ratio2(s0);
 }
 
 /// The pair force of a row entry as a multiple of y_j − y_i: c s n = c (1/|ξ| − 1/|y|) (y_j − y_i).

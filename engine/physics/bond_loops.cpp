@@ -26,13 +26,13 @@ void each_row(std::size_t n, const std::vector<std::int32_t>* rows, F&& f) {
 }
 
 /// Damage of particle i (docs/theory.md §8): the weighted broken fraction of its own bonds.
-void damage_of(const BondList& bonds, ParticleStore& p, std::size_t i) {
+void damage_of(const BondRows& b, ParticleStore& p, PartialVolume rule, std::size_t i) {
   double all = 0.0, intact = 0.0;
-  for (auto b = bonds.begin(i); b < bonds.end(i); ++b) {
-    const double w = bonds.weight[b] * p.volume[bonds.neighbor[b]];
+  for_each_own_bond(b, i, [&](std::int64_t k, std::size_t j) {
+    const double w = bond_weight(p, rule, i, j, b.length(k)) * p.volume[j];
     all += w;
-    intact += bonds.intact[b] * w;
-  }
+    intact += b.own_intact(k) ? w : 0.0;
+  });
   p.damage[i] = all > 0.0 ? 1.0 - intact / all : 0.0;
 }
 
@@ -41,18 +41,18 @@ void damage_of(const BondList& bonds, ParticleStore& p, std::size_t i) {
 /// bonds, so this stays race-free, and damage is always current without a pass over all bonds.
 /// With Energy, row i's Σ_k c_k s_k² |ξ_k| goes to energy[i].
 template <int Dim, bool Fracture, bool Energy>
-std::int64_t force_rows(const InteractionList& il, const kernel::Breaking& w, ParticleStore& p,
+std::int64_t force_rows(const BondRows& rows, const kernel::Breaking& w, ParticleStore& p,
                         const std::vector<std::int32_t>* subset, double* energy) {
   const kernel::Fields x{
       {p.position[0].data(), p.position[1].data(), p.position[2].data()},
       {p.force_density[0].data(), p.force_density[1].data(), p.force_density[2].data()},
       energy};
-  const kernel::RowArrays r(il);
+  const kernel::RowArrays r(rows, p);
   const auto row = kernel::row_kernel<Dim, Fracture, Energy>(kernel::best_build());
   auto force_row = [&](std::int64_t i) {
     const std::int64_t broke = row(i, x, r, w);
     if constexpr (Fracture)
-      if (broke) damage_of(w.in->bonds, p, static_cast<std::size_t>(i));
+      if (broke) damage_of(*w.rows, p, w.constants->rule, static_cast<std::size_t>(i));
     return broke;
   };
   std::int64_t broken = 0;
@@ -68,51 +68,41 @@ std::int64_t force_rows(const InteractionList& il, const kernel::Breaking& w, Pa
 
 /// force_rows with the energy output when `energy` is given (sized to the store first).
 template <int Dim, bool Fracture>
-std::int64_t force_rows_with(const InteractionList& il, const kernel::Breaking& w, ParticleStore& p,
+std::int64_t force_rows_with(const BondRows& rows, const kernel::Breaking& w, ParticleStore& p,
                              const std::vector<std::int32_t>* subset, std::vector<double>* energy) {
-  if (!energy) return force_rows<Dim, Fracture, false>(il, w, p, subset, nullptr);
+  if (!energy) return force_rows<Dim, Fracture, false>(rows, w, p, subset, nullptr);
   energy->resize(p.size());
-  return force_rows<Dim, Fracture, true>(il, w, p, subset, energy->data());
+  return force_rows<Dim, Fracture, true>(rows, w, p, subset, energy->data());
 }
 
 template <int Dim>
-double row_energy(const BondList& bonds, const ParticleStore& p, const std::vector<double>& C,
-                  std::size_t i) {
+double row_energy(const BondRows& b, const BondConstants& c, std::size_t i) {
+  const auto& p = c.particles;
   const double* const y[3] = {p.position[0].data(), p.position[1].data(), p.position[2].data()};
   double w = 0.0;
-  for (auto b = bonds.begin(i); b < bonds.end(i); ++b) {
-    if (!bonds.intact[b]) continue;
-    const auto j = static_cast<std::size_t>(bonds.neighbor[b]);
-    const double s = bond_law::stretch(bond_law::squared_length<Dim>(y, i, j), bonds.length[b]);
-    w += bond_law::energy_share(s, bonds.length[b], bonds.weight[b], bonds.stiffness[b],
+  for_each_own_bond(b, i, [&](std::int64_t k, std::size_t j) {
+    if (!b.own_intact(k)) return;
+    const double length = b.length(k);
+    const double s = bond_law::stretch(bond_law::squared_length<Dim>(y, i, j), length);
+    w += bond_law::energy_share(s, length, bond_weight(p, c.rule, i, j, length), b.own_factor(k),
                                 p.volume[j]);
-  }
-  return 0.5 * C[i] * w;
+  });
+  return 0.5 * c.micromodulus[i] * w;
 }
 
 template <int Dim>
-void energy_rows(const BondList& bonds, const ParticleStore& p, const std::vector<double>& C,
-                 std::vector<double>& out) {
-  const auto n = static_cast<std::int64_t>(p.size());
-  out.assign(p.size(), 0.0);
+void energy_rows(const BondRows& b, const BondConstants& c, std::vector<double>& out) {
+  const auto n = static_cast<std::int64_t>(c.particles.size());
+  out.assign(c.particles.size(), 0.0);
 #pragma omp parallel for schedule(static) if (n >= kParallelMinParticles)
-  for (std::int64_t i = 0; i < n; ++i) out[i] = row_energy<Dim>(bonds, p, C, i);
-}
-
-template <int Dim>
-double energy_of(const BondList& bonds, const ParticleStore& p, const std::vector<double>& C,
-                 const std::vector<std::int32_t>& rows) {
-  double sum = 0.0;
-  for (const auto i : rows)
-    sum += p.volume[i] * row_energy<Dim>(bonds, p, C, static_cast<std::size_t>(i));
-  return sum;
+  for (std::int64_t i = 0; i < n; ++i) out[i] = row_energy<Dim>(b, c, i);
 }
 
 }  // namespace
 
-double strain_energy_total(const InteractionList& il, const ParticleStore& p) {
+double strain_energy_total(const BondRows& b, const ParticleStore& p) {
   const double* const y[3] = {p.position[0].data(), p.position[1].data(), p.position[2].data()};
-  const kernel::RowArrays r(il);
+  const kernel::RowArrays r(b, p);
   std::vector<double> rows(p.size());
   with_dim(p.dim(), [&](auto d) {
     const auto energy = kernel::row_energy_kernel<d()>(kernel::best_build());
@@ -127,67 +117,76 @@ double strain_energy_of_row_sums(std::vector<double>& row_sums, const ParticleSt
   return ordered_sum(row_sums);
 }
 
-void internal_force_density(const InteractionList& il, ParticleStore& p,
+void internal_force_density(const BondRows& b, ParticleStore& p,
                             const std::vector<std::int32_t>* rows,
                             std::vector<double>* row_energy) {
   with_dim(p.dim(), [&](auto d) {
-    force_rows_with<d(), false>(il, kernel::Breaking{}, p, rows, row_energy);
+    force_rows_with<d(), false>(b, kernel::Breaking{}, p, rows, row_energy);
   });
 }
 
-std::int64_t force_and_break(InteractionList& il, BondList& bonds, ParticleStore& p,
-                             const RowInputs& in, std::vector<double>* row_energy) {
-  const kernel::Breaking w{&il, &in, bonds.intact.data()};
-  return with_dim(
-      p.dim(), [&](auto d) { return force_rows_with<d(), true>(il, w, p, nullptr, row_energy); });
+std::int64_t force_and_break(BondRows& b, ParticleStore& p, const BondConstants& c,
+                             std::vector<double>* row_energy) {
+  const kernel::Breaking w{&b, &c};
+  return with_dim(p.dim(),
+                  [&](auto d) { return force_rows_with<d(), true>(b, w, p, nullptr, row_energy); });
 }
 
-void strain_energy_density(const BondList& bonds, const ParticleStore& p,
-                           const std::vector<double>& C, std::vector<double>& out) {
-  with_dim(p.dim(), [&](auto d) { energy_rows<d()>(bonds, p, C, out); });
+void strain_energy_density(const BondRows& b, const BondConstants& c, std::vector<double>& out) {
+  with_dim(c.particles.dim(), [&](auto d) { energy_rows<d()>(b, c, out); });
 }
 
-double strain_energy_of_rows(const BondList& bonds, const ParticleStore& p,
-                             const std::vector<double>& C, const std::vector<std::int32_t>& rows) {
-  return with_dim(p.dim(), [&](auto d) { return energy_of<d()>(bonds, p, C, rows); });
+double strain_energy_of_rows(const BondRows& b, const ParticleStore& p,
+                             const std::vector<std::int32_t>& rows) {
+  const double* const y[3] = {p.position[0].data(), p.position[1].data(), p.position[2].data()};
+  const kernel::RowArrays r(b, p);
+  return with_dim(p.dim(), [&](auto d) {
+    const auto energy = kernel::row_energy_kernel<d()>(kernel::best_build());
+    double sum = 0.0;
+    for (const auto i : rows) sum += 0.25 * p.volume[i] * energy(i, y, r);
+    return sum;
+  });
 }
 
 namespace {
-double stable_step_of(const InteractionList& il, const ParticleStore& p, std::size_t i) {
+double stable_step_of(const BondRows& b, const ParticleStore& p, std::size_t i) {
   double stiffness = 0.0;
-  for (auto k = il.begin(i); k < il.end(i); ++k)
-    stiffness += std::abs(il.coefficient[k]) * il.inv_length[k];
+  for (auto k = b.begin(i); k < b.end(i); ++k)
+    stiffness += std::abs(static_cast<double>(b.stiffness[k]) * b.stiffness_scale *
+                          p.volume[static_cast<std::size_t>(b.other[k])]) *
+                 b.inv_length[k];
   return stiffness > 0.0 ? std::sqrt(2.0 * p.density[i] / stiffness)
                          : std::numeric_limits<double>::infinity();
 }
 }  // namespace
 
-void compute_damage(const BondList& bonds, ParticleStore& p,
+void compute_damage(const BondRows& b, ParticleStore& p, PartialVolume rule,
                     const std::vector<std::int32_t>* rows) {
   each_row(p.size(), rows,
-           [&](std::int64_t i) { damage_of(bonds, p, static_cast<std::size_t>(i)); });
+           [&](std::int64_t i) { damage_of(b, p, rule, static_cast<std::size_t>(i)); });
 }
 
-void horizon_quadrature(const BondList& bonds, const ParticleStore& p, const Section& section,
-                        std::vector<double>& out) {
+void horizon_quadrature(const BondRows& b, const ParticleStore& p, PartialVolume rule,
+                        const Section& section, std::vector<double>& out) {
   out.assign(p.size(), 0.0);
   for (std::size_t i = 0; i < p.size(); ++i) {
     double sum = p.volume[i];
-    for (auto b = bonds.begin(i); b < bonds.end(i); ++b)
-      sum += bonds.weight[b] * p.volume[bonds.neighbor[b]];
+    for_each_own_bond(b, i, [&](std::int64_t k, std::size_t j) {
+      sum += bond_weight(p, rule, i, j, b.length(k)) * p.volume[j];
+    });
     out[i] = sum / section.horizon_volume(p.horizon[i]);
   }
 }
 
-void particle_time_steps(const InteractionList& il, const ParticleStore& p,
-                         std::vector<double>& out, const std::vector<std::int32_t>* rows) {
+void particle_time_steps(const BondRows& il, const ParticleStore& p, std::vector<double>& out,
+                         const std::vector<std::int32_t>* rows) {
   out.resize(p.size(), std::numeric_limits<double>::infinity());
   each_row(p.size(), rows, [&](std::int64_t i) {
     out[static_cast<std::size_t>(i)] = stable_step_of(il, p, static_cast<std::size_t>(i));
   });
 }
 
-double critical_time_step(const InteractionList& il, const ParticleStore& p) {
+double critical_time_step(const BondRows& il, const ParticleStore& p) {
   std::vector<double> steps;
   particle_time_steps(il, p, steps);
   return smallest(steps);

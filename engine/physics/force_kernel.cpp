@@ -1,7 +1,9 @@
-// Force kernel of one interaction row, plain and AVX2 (docs/theory.md §4, §18).
+// Force kernel of one bond row, plain and AVX2 (docs/theory.md §4, §18).
 #include "engine/physics/force_kernel.hpp"
+#include "engine/physics/bond_law.hpp"
 
 #include <cmath>
+#include <cstring>
 
 #if defined(__x86_64__) || defined(__i386__)
 #include <immintrin.h>
@@ -18,6 +20,17 @@ inline double energy_of_entry(double l2, double c, double inv_length) {
   return c != 0.0 ? c * s * s / inv_length : 0.0;
 }
 
+/// Whether an entry still has an intact bond (a broken pair never goes down the slow path).
+inline bool has_intact(std::uint8_t flags) {
+  return (flags & (kOwnIntact | kDualIntact)) != 0;
+}
+
+/// c = K V_other of entry k: the stored pair stiffness times the scale (exact: a power of two)
+/// times the other particle's volume.
+inline double coefficient_of(const RowArrays& r, std::int64_t k, std::int32_t j) {
+  return static_cast<double>(r.stiffness[k]) * r.scale * r.volume[j];
+}
+
 /// One entry in plain arithmetic: the same operations as a lane of the AVX2 build. With Energy,
 /// the entry's c s² |ξ| (after its break test) is added to `energy`.
 template <int Dim, bool Fracture, bool Energy>
@@ -27,12 +40,15 @@ inline int entry(std::int64_t i, std::int64_t k, const double yi[Dim], const Fie
   double dx[Dim], l2 = 0.0;
   for (int a = 0; a < Dim; ++a) dx[a] = x.y[a][j] - yi[a], l2 += dx[a] * dx[a];
   int broken = 0;
-  if constexpr (Fracture)
-    if (l2 >= r.break_at[k]) [[unlikely]]
-      broken = break_entry(*w.il, static_cast<std::size_t>(i), k, l2, *w.in, w.intact);
-  const double s = r.coefficient[k] * (r.inv_length[k] - 1.0 / std::sqrt(l2));
+  if constexpr (Fracture) {
+    const double ratio2 = bond_law::stretch_ratio2(l2, r.inv_length[k]);
+    if (ratio2 >= r.break_ratio2[i] && has_intact(r.flags[k])) [[unlikely]]
+      broken = break_entry(*w.rows, static_cast<std::size_t>(i), k, ratio2, *w.constants);
+  }
+  const double c = coefficient_of(r, k, j);
+  const double s = c * (r.inv_length[k] - 1.0 / std::sqrt(l2));
   for (int a = 0; a < Dim; ++a) lane[a] += s * dx[a];
-  if constexpr (Energy) energy += energy_of_entry(l2, r.coefficient[k], r.inv_length[k]);
+  if constexpr (Energy) energy += energy_of_entry(l2, c, r.inv_length[k]);
   return broken;
 }
 
@@ -50,11 +66,11 @@ inline void write_force(std::int64_t i, const Fields& x, const double lanes[Dim]
 /// The slow path of a block of four entries from k: break_entry for each lane set in `hit`.
 /// Kept out of line so the vector loop keeps its registers.
 [[gnu::noinline, gnu::cold]] std::int64_t break_block(std::int64_t i, std::int64_t k, int hit,
-                                                      const double l2[4], const Breaking& w) {
+                                                      const double ratio2[4], const Breaking& w) {
   std::int64_t broken = 0;
   for (int t = 0; t < 4; ++t)
     if (hit & (1 << t))
-      broken += break_entry(*w.il, static_cast<std::size_t>(i), k + t, l2[t], *w.in, w.intact);
+      broken += break_entry(*w.rows, static_cast<std::size_t>(i), k + t, ratio2[t], *w.constants);
   return broken;
 }
 
@@ -86,7 +102,7 @@ inline double entry_energy(std::int64_t i, std::int64_t k, const double* const y
     const double d = y[a][j] - y[a][i];
     l2 += d * d;
   }
-  return energy_of_entry(l2, r.coefficient[k], r.inv_length[k]);
+  return energy_of_entry(l2, coefficient_of(r, k, j), r.inv_length[k]);
 }
 
 template <int Dim>
@@ -122,6 +138,24 @@ inline __m256d energy_of_entries(__m256d root_l2, __m256d c, __m256d inv) {
   return _mm256_and_pd(e, _mm256_cmp_pd(c, _mm256_setzero_pd(), _CMP_NEQ_UQ));
 }
 
+/// c = K V_other of the four entries from k (the lanes of coefficient_of).
+inline __m256d coefficients(const RowArrays& r, std::int64_t k, const std::int32_t* j) {
+  const double* V = r.volume;
+  const __m256d K =
+      _mm256_mul_pd(_mm256_cvtps_pd(_mm_loadu_ps(r.stiffness + k)), _mm256_set1_pd(r.scale));
+  return _mm256_mul_pd(K, _mm256_set_pd(V[j[3]], V[j[2]], V[j[1]], V[j[0]]));
+}
+
+/// Lanes of the four entries from k that still hold an intact bond (has_intact).
+inline __m256d intact_lanes(const RowArrays& r, std::int64_t k) {
+  std::int32_t bytes = 0;
+  std::memcpy(&bytes, r.flags + k, sizeof bytes);
+  const __m256i f = _mm256_cvtepu8_epi64(_mm_cvtsi32_si128(bytes));
+  const __m256i bits = _mm256_and_si256(f, _mm256_set1_epi64x(kOwnIntact | kDualIntact));
+  return _mm256_castsi256_pd(
+      _mm256_xor_si256(_mm256_cmpeq_epi64(bits, _mm256_setzero_si256()), _mm256_set1_epi64x(-1)));
+}
+
 template <int Dim, bool Fracture, bool Energy>
 std::int64_t row_avx2(std::int64_t i, const Fields& x, const RowArrays& r, const Breaking& w) {
   __m256d yi[Dim], acc[Dim], energy = _mm256_setzero_pd();
@@ -130,6 +164,7 @@ std::int64_t row_avx2(std::int64_t i, const Fields& x, const RowArrays& r, const
   std::int64_t broken = 0;
   const std::int64_t begin = r.start[i], end = begin + r.count[i];
   const std::int64_t blocks_end = begin + ((end - begin) & ~std::int64_t{3});
+  const __m256d limit = _mm256_set1_pd(r.break_ratio2[i]);
   for (std::int64_t k = begin; k < blocks_end; k += 4) {
     const std::int32_t* j = r.other + k;
     __m256d dx[Dim], l2 = _mm256_setzero_pd();
@@ -139,17 +174,21 @@ std::int64_t row_avx2(std::int64_t i, const Fields& x, const RowArrays& r, const
       dx[a] = _mm256_sub_pd(_mm256_set_pd(ya[j[3]], ya[j[2]], ya[j[1]], ya[j[0]]), yi[a]);
       l2 = _mm256_add_pd(l2, _mm256_mul_pd(dx[a], dx[a]));
     }
+    const __m256d inv = _mm256_loadu_pd(r.inv_length + k);
     if constexpr (Fracture) {
-      const __m256d limit = _mm256_cvtps_pd(_mm_loadu_ps(r.break_at + k));
-      const int hit = _mm256_movemask_pd(_mm256_cmp_pd(l2, limit, _CMP_GE_OQ));
-      if (hit) [[unlikely]] {
-        alignas(32) double l2s[4];
-        _mm256_store_pd(l2s, l2);
-        broken += break_block(i, k, hit, l2s, w);
+      const __m256d ratio2 = _mm256_mul_pd(_mm256_mul_pd(l2, inv), inv);
+      const __m256d over = _mm256_cmp_pd(ratio2, limit, _CMP_GE_OQ);
+      if (_mm256_movemask_pd(over)) [[unlikely]] {
+        const int hit = _mm256_movemask_pd(_mm256_and_pd(over, intact_lanes(r, k)));
+        if (hit) {
+          alignas(32) double ratios[4];
+          _mm256_store_pd(ratios, ratio2);
+          broken += break_block(i, k, hit, ratios, w);
+        }
       }
     }
     const __m256d root = _mm256_sqrt_pd(l2), q = _mm256_div_pd(one, root);
-    const __m256d c = _mm256_loadu_pd(r.coefficient + k), inv = _mm256_loadu_pd(r.inv_length + k);
+    const __m256d c = coefficients(r, k, j);
     const __m256d s = _mm256_mul_pd(c, _mm256_sub_pd(inv, q));
     for (int a = 0; a < Dim; ++a) acc[a] = _mm256_add_pd(acc[a], _mm256_mul_pd(s, dx[a]));
     if constexpr (Energy) energy = _mm256_add_pd(energy, energy_of_entries(root, c, inv));
@@ -177,7 +216,7 @@ double energy_avx2(std::int64_t i, const double* const y[3], const RowArrays& r)
       const __m256d d = _mm256_sub_pd(_mm256_set_pd(ya[j[3]], ya[j[2]], ya[j[1]], ya[j[0]]), yi[a]);
       l2 = _mm256_add_pd(l2, _mm256_mul_pd(d, d));
     }
-    const __m256d c = _mm256_loadu_pd(r.coefficient + k), inv = _mm256_loadu_pd(r.inv_length + k);
+    const __m256d c = coefficients(r, k, j), inv = _mm256_loadu_pd(r.inv_length + k);
     acc = _mm256_add_pd(acc, energy_of_entries(_mm256_sqrt_pd(l2), c, inv));
   }
   alignas(32) double lane[4];

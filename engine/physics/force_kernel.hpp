@@ -1,8 +1,8 @@
-// The force kernel of one interaction row (docs/theory.md §4, §18): f_i = Σ_k c_k s_k n_k with
-// the fused break test. Two builds of the same arithmetic: plain C++ and AVX2 (chosen once per
-// call from the CPU). Both sum a row in four lanes (entry t of a row goes to lane t mod 4, lanes
-// added as (0 + 1) + (2 + 3)) with the same IEEE operations in the same order and no fused
-// multiply-add, so they give the same bits on every machine and for every thread count.
+// The force kernel of one bond row (docs/theory.md §4, §18): f_i = Σ_k c_k s_k n_k with
+// c_k = K_k V_k and the fused break test. Two builds of the same arithmetic: plain C++ and AVX2
+// (chosen once per call from the CPU). Both sum a row in four lanes (entry t of a row goes to lane
+// t mod 4, lanes added as (0 + 1) + (2 + 3)) with the same IEEE operations in the same order and no
+// fused multiply-add, so they give the same bits on every machine and for every thread count.
 #pragma once
 #include <cstdint>
 
@@ -10,28 +10,35 @@
 
 namespace dhpd::kernel {
 
-/// Views of the row arrays the kernel streams (taken once per call, never per bond).
+/// Views of the row arrays the kernel streams (taken once per call, never per bond), with the
+/// particle volumes the pair stiffness is multiplied by.
 struct RowArrays {
   const std::int64_t* start;
   const std::int32_t* count;
   const std::int32_t* other;
-  const double *inv_length, *coefficient;
-  const float* break_at;
+  const double* inv_length;
+  const float* stiffness;
+  const std::uint8_t* flags;
+  const double* break_ratio2;
+  const double* volume;
+  double scale;
 
-  explicit RowArrays(const InteractionList& il)
-      : start(il.rows.start.data()),
-        count(il.rows.count.data()),
-        other(il.other.data()),
-        inv_length(il.inv_length.data()),
-        coefficient(il.coefficient.data()),
-        break_at(il.break_at.data()) {}
+  RowArrays(const BondRows& b, const ParticleStore& p)
+      : start(b.rows.start.data()),
+        count(b.rows.count.data()),
+        other(b.other.data()),
+        inv_length(b.inv_length.data()),
+        stiffness(b.stiffness.data()),
+        flags(b.flags.data()),
+        break_ratio2(b.break_ratio2.data()),
+        volume(p.volume.data()),
+        scale(b.stiffness_scale) {}
 };
 
 /// What the fused break test needs on its slow path (unused by the elastic kernel).
 struct Breaking {
-  InteractionList* il = nullptr;
-  const RowInputs* in = nullptr;
-  std::uint8_t* intact = nullptr;
+  BondRows* rows = nullptr;
+  const BondConstants* constants = nullptr;
 };
 
 /// Positions read and force densities written (the first Dim axes); the kernels with Energy also
@@ -42,9 +49,10 @@ struct Fields {
   double* energy = nullptr;
 };
 
-/// Force density of row i; with Fracture, entries whose squared length reached their break_at go
-/// through break_entry first, on the same squared length; with Energy, the row's energy after its
-/// break tests, the same bits as RowEnergy gives after the pass. Returns the own bonds broken.
+/// Force density of row i; with Fracture, entries with an intact bond whose squared stretch ratio
+/// (|y|/|ξ|)² reached the row's break_ratio2 go through break_entry first, on that ratio; with
+/// Energy, the row's energy after its break tests, the same bits as RowEnergy gives after the pass.
+/// Returns the own bonds broken.
 using RowKernel = std::int64_t (*)(std::int64_t i, const Fields& x, const RowArrays& r,
                                    const Breaking& w);
 

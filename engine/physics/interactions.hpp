@@ -1,88 +1,68 @@
-// The per-particle interaction rows that the force kernel gathers over (docs/theory.md §4).
-// Row i lists each particle that pushes on i once, in increasing index order. For dual-horizon an
-// entry carries two bonds of the pair: i's own bond i→j (coefficient C(δ_i) β_ij V_j) and the
-// reaction of j's bond j→i on i (C(δ_j) β_ji V_j); either may be absent when only one horizon
-// holds the other particle. The classical models keep only own bonds, with 2C(δ_i) β_ij V_j.
-// One stretch evaluation per entry serves both bonds, and the break test shares it: the rows of
-// i and j see the same squared length (the same bits) and reach the same decision, each writing
-// only its own entries. The kernel streams four arrays (other, 1/|ξ|, the pair's summed
-// coefficient, a float break threshold); the bond ids and alive bits are read only when a bond
-// may break. Rows are derived from the bond list; `intact` there stays the single truth, which
-// the fused kernel updates for the bonds a row owns.
+// What the force model puts on the bond rows (docs/theory.md §4, §18): each entry's pair
+// stiffness and each row's break threshold, and the slow path of the fused break test.
+// Dual-horizon: an entry of row i carries i's own bond i→j (K = C(δ_i) β_ij φ_ij) and the reaction
+// of j's bond j→i (C(δ_j) β_ji φ_ji); the force on i is V_j (K_own μ_own + K_dual μ_dual) s n, so
+// both rows of a pair use the same K (the same bits) and the pair's forces are equal and opposite
+// to round-off. The classical models use only the own bond, with 2C(δ_i) β_ij.
+// K is stored in single precision, scaled by a power of two (BondRows::stiffness_scale): a
+// relative change of at most 2⁻²⁴ of each bond's stiffness, the same in both rows, so momentum
+// stays exact and energy is conserved (docs/theory.md §18).
 #pragma once
+#include <cmath>
 #include <cstdint>
-#include <limits>
 #include <vector>
 
 #include "engine/discretization/bonds.hpp"
 #include "engine/discretization/section.hpp"
+#include "engine/physics/bond_law.hpp"
 
 namespace dhpd {
 
-/// Break threshold of an entry none of whose bonds can break (absent, broken, no_fail owner, no
-/// G0): no squared length compares ≥ NaN, not even +∞.
-inline constexpr float kNeverBreaks = std::numeric_limits<float>::quiet_NaN();
-
-/// Bits of InteractionList::alive.
-enum AliveBits : std::uint8_t { kOwnAlive = 1, kDualAlive = 2 };
-
-struct InteractionList {
-  RowIndex rows;
-  std::vector<std::int32_t> other;  ///< the particle at the other end (rows sorted by it)
-  std::vector<double> inv_length;   ///< 1/|ξ|
-  /// c: K β V_other summed over the entry's intact bonds (0 once both are broken).
-  std::vector<double> coefficient;
-  /// The smallest ((1 + s0_owner) |ξ|)² of the entry's bonds that can still break, rounded down
-  /// to float: |y|² below it breaks nothing; at or above it the exact double test decides.
-  std::vector<float> break_at;
-  std::vector<BondId> own_bond;     ///< the row particle's bond to `other`, or −1
-  std::vector<BondId> dual_bond;    ///< `other`'s bond on the row particle (dual-horizon), or −1
-  std::vector<std::uint8_t> alive;  ///< AliveBits of the bonds still intact in this entry
-  std::int64_t live = 0;            ///< entries in live rows
-
-  std::size_t size() const { return static_cast<std::size_t>(live); }
-  std::int64_t begin(std::size_t i) const { return rows.begin(i); }
-  std::int64_t end(std::size_t i) const { return rows.end(i); }
-  /// The entry of j in row i (rows are sorted by `other`), or −1 when j does not push on i.
-  std::int64_t find(std::size_t i, std::int32_t j) const;
-  /// Bytes held by the arrays (capacity, not size: what the allocator gave).
-  std::size_t bytes() const;
-};
-
-/// What the rows are built from: the model, the bonds, and the owners' constants.
-struct RowInputs {
+/// What the stiffness and the break tests read: the model, the partial-volume rule, the
+/// particles, and the owners' constants.
+struct BondConstants {
   ForceModel model;
-  const BondList& bonds;
-  const DualList& dual;
+  PartialVolume rule;
   const ParticleStore& particles;
   const std::vector<double>& micromodulus;  ///< C(δ_i) of particle i's material
-  /// s0 of each owner (+∞ without G0); an empty vector builds rows that never break.
+  /// s0 of each owner (+∞ without G0); an empty vector: no bond ever breaks.
   const std::vector<double>& critical_stretch;
+
+  /// Whether bonds owned by i can break (fracture constants, not no_fail).
+  bool can_break(std::size_t i) const {
+    return !critical_stretch.empty() && !particles.no_fail[i] && std::isfinite(critical_stretch[i]);
+  }
+  /// (1 + s0_i)²: a bond of i breaks when (|y|/|ξ|)² reaches it.
+  double break_ratio2(std::size_t i) const {
+    return bond_law::critical_ratio2(critical_stretch[i]);
+  }
 };
 
-InteractionList build_interactions(const RowInputs& in);
+/// K of the bond owner → neighbor with stiffness factor φ (model factor × C_owner β φ), in double.
+double bond_stiffness(const BondConstants& c, std::size_t owner, std::size_t neighbor,
+                      double length, double factor);
 
-/// Coefficient of entry k of row i from its bonds and alive bits, with the same operations as a
-/// build (so an update after a break matches a rebuild bit for bit).
-double entry_coefficient(const InteractionList& il, std::size_t i, std::int64_t k,
-                         const RowInputs& in);
-/// The entry's break_at from its bonds and alive bits.
-float entry_break_at(const InteractionList& il, std::size_t i, std::int64_t k, const RowInputs& in);
-/// Sets the entry's coefficient and break_at from its bonds and alive bits (a build, a break and
-/// a restore of the alive bits all derive them this way).
-inline void refresh_entry(InteractionList& il, std::size_t i, std::int64_t k, const RowInputs& in) {
-  il.coefficient[k] = entry_coefficient(il, i, k, in);
-  il.break_at[k] = entry_break_at(il, i, k, in);
-}
+/// K of the bond that `other[k]` owns on particle i (entry k of row i), with its stored factor.
+double dual_bond_stiffness(const BondRows& b, const BondConstants& c, std::size_t i,
+                           std::int64_t k);
 
-/// The slow path of the fused break test, for an entry whose squared current length l2 reached
-/// its break_at: breaks each alive bond with l2 ≥ ((1 + s0_owner)|ξ|)² (marking the own one in
-/// `intact`, the bond list's μ), then updates the entry's coefficient and break_at. Returns the
-/// own bonds broken (0 or 1). Touches only entry k of row i and the bond row i owns.
-int break_entry(InteractionList& il, std::size_t i, std::int64_t k, double l2, const RowInputs& in,
-                std::uint8_t* intact);
+/// The stored stiffness of entry k of row i from its flags: K of the intact bonds the model uses,
+/// divided by the rows' scale and rounded to float. Both rows of a pair get the same bits.
+float entry_stiffness(const BondRows& b, const BondConstants& c, std::size_t i, std::int64_t k);
 
-/// Rewrites row i from its own bonds and dual row (moving it when it has grown).
-void rebuild_interaction_row(InteractionList& il, std::size_t i, const RowInputs& in);
+/// Sets the stiffness of every entry of row i and the row's break_ratio2.
+void refresh_row(BondRows& b, const BondConstants& c, std::size_t i);
+
+/// Every row (in parallel), after choosing the rows' stiffness scale when `choose_scale`.
+void refresh_rows(BondRows& b, const BondConstants& c, bool choose_scale);
+
+/// The power of two near the largest micromodulus (1 when there is none): K / scale is of order 1.
+double stiffness_scale_for(const std::vector<double>& micromodulus);
+
+/// The slow path of the fused break test, for entry k of row i whose squared stretch ratio
+/// (|y|/|ξ|)² = ratio2 reached the row's break_ratio2: breaks each intact bond whose owner can
+/// break and whose (1 + s0_owner)² it reaches, then updates the entry's stiffness. Returns the
+/// own bonds broken (0 or 1). Writes only entry k of row i.
+int break_entry(BondRows& b, std::size_t i, std::int64_t k, double ratio2, const BondConstants& c);
 
 }  // namespace dhpd

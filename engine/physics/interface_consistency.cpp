@@ -53,30 +53,28 @@ struct Region {
 /// Horizon tests on the reference configuration, cached per particle.
 class HorizonTests {
  public:
-  HorizonTests(const BondList& b, const DualList& d, const ParticleStore& p)
-      : b_(b), d_(d), p_(p) {}
+  HorizonTests(const BondRows& b, const ParticleStore& p, PartialVolume rule)
+      : b_(b), p_(p), rule_(rule) {}
 
   bool complete(std::int32_t i) {
     const auto it = complete_.find(i);
     if (it != complete_.end()) return it->second;
     const auto u = static_cast<std::size_t>(i);
     double m[3] = {0, 0, 0}, v = 0.0;
-    for (auto k = b_.begin(u); k < b_.end(u); ++k) {
-      const auto j = static_cast<std::size_t>(b_.neighbor[k]);
-      const double w = b_.weight[k] * p_.volume[j];
+    for_each_own_bond(b_, u, [&](std::int64_t k, std::size_t j) {
+      const double w = bond_weight(p_, rule_, u, j, b_.length(k)) * p_.volume[j];
       v += w;
       for (int a = 0; a < p_.dim(); ++a)
         m[a] += w * (p_.reference_position[a][j] - p_.reference_position[a][u]);
-    }
+    });
     const double first = std::sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
     return complete_[i] = v > 0.0 && first < complete_horizon_moment(p_.dim()) * v * p_.horizon[u];
   }
 
-  /// Calls f(partner) for every own neighbour and every owner of a bond on i.
+  /// Calls f(partner) for every particle i shares a bond with (own or dual).
   template <class F>
   void each_partner(std::size_t i, F&& f) const {
-    for (auto k = b_.begin(i); k < b_.end(i); ++k) f(b_.neighbor[k]);
-    for (auto e = d_.begin(i); e < d_.end(i); ++e) f(b_.owner[d_.bond[e]]);
+    for (auto k = b_.begin(i); k < b_.end(i); ++k) f(b_.other[k]);
   }
 
   /// A bond (own or dual) to a particle whose horizon differs by kHorizonJumpRatio or more.
@@ -103,9 +101,9 @@ class HorizonTests {
   }
 
  private:
-  const BondList& b_;
-  const DualList& d_;
+  const BondRows& b_;
   const ParticleStore& p_;
+  PartialVolume rule_;
   std::unordered_map<std::int32_t, bool> complete_;
 };
 
@@ -119,17 +117,20 @@ struct Unknown {
 
 }  // namespace
 
-std::vector<double> third_moment(const BondList& b, const DualList& d, const ParticleStore& p,
+std::vector<double> third_moment(const BondRows& b, const ParticleStore& p, PartialVolume rule,
                                  const std::vector<double>& C, std::size_t i) {
   Moment t = Moment::Zero(components(p.dim()));
   for (auto k = b.begin(i); k < b.end(i); ++k) {
-    const auto j = static_cast<std::size_t>(b.neighbor[k]);
-    t += (C[i] * b.weight[k] * b.stiffness[k] * p.volume[j]) * moment_of(p, i, j);
-  }
-  for (auto e = d.begin(i); e < d.end(i); ++e) {
-    const auto k = d.bond[e];
-    const auto o = static_cast<std::size_t>(b.owner[k]);
-    t += (C[o] * b.weight[k] * b.stiffness[k] * p.volume[o]) * moment_of(p, i, o);
+    const auto j = static_cast<std::size_t>(b.other[k]);
+    const double length = b.length(k);
+    double K = 0.0;
+    if (b.has_own(k)) K += C[i] * bond_weight(p, rule, i, j, length) * b.own_factor(k);
+    if (b.has_dual(k)) {
+      const double factor =
+          b.factor.empty() ? 1.0 : b.own_factor(b.find(j, static_cast<std::int32_t>(i)));
+      K += C[j] * bond_weight(p, rule, j, i, length) * factor;
+    }
+    t += (K * p.volume[j]) * moment_of(p, i, j);
   }
   return {t.data(), t.data() + t.size()};
 }
@@ -245,7 +246,7 @@ struct System {
   double before = 0.0;       ///< largest |T| before
 };
 
-System assemble(const BondList& b, const DualList& d, const ParticleStore& p,
+System assemble(const BondRows& b, const ParticleStore& p, PartialVolume rule,
                 const std::vector<double>& C, std::vector<std::int32_t> constrained) {
   System sys;
   sys.c = components(p.dim());
@@ -258,14 +259,13 @@ System assemble(const BondList& b, const DualList& d, const ParticleStore& p,
   sys.diag.assign(n, Block::Zero(c, c));
   for (std::size_t k = 0; k < n; ++k) {
     const auto i = static_cast<std::size_t>(sys.constrained[k]);
-    for (auto e = b.begin(i); e < b.end(i); ++e) {
-      const auto it = local.find(b.neighbor[e]);
-      if (it == local.end()) continue;
-      const auto j = static_cast<std::size_t>(b.neighbor[e]);
+    for_each_own_bond(b, i, [&](std::int64_t e, std::size_t j) {
+      const auto it = local.find(static_cast<std::int32_t>(j));
+      if (it == local.end()) return;
       const Unknown u{e,
                       static_cast<std::int32_t>(k),
                       it->second,
-                      C[i] * b.weight[e],
+                      C[i] * bond_weight(p, rule, i, j, b.length(e)),
                       p.volume[i],
                       p.volume[j],
                       moment_of(p, i, j)};
@@ -273,13 +273,13 @@ System assemble(const BondList& b, const DualList& d, const ParticleStore& p,
       sys.diag[static_cast<std::size_t>(u.lj)] += (u.K * u.vi * u.vi) * u.N * u.N.transpose();
       ++sys.touched[k], ++sys.touched[static_cast<std::size_t>(it->second)];
       sys.us.push_back(u);
-    }
+    });
   }
   sys.rhs = Eigen::VectorXd::Zero(c * static_cast<Eigen::Index>(n));
   std::vector<double> volume(n);
   for (std::size_t k = 0; k < n; ++k) {
     const auto i = static_cast<std::size_t>(sys.constrained[k]);
-    const auto t = third_moment(b, d, p, C, i);
+    const auto t = third_moment(b, p, rule, C, i);
     volume[k] = p.volume[i];
     for (int a = 0; a < c; ++a) sys.rhs(c * static_cast<Eigen::Index>(k) + a) = -t[a];
     sys.before = std::max(sys.before, sys.rhs.segment(c * static_cast<Eigen::Index>(k), c).norm());
@@ -319,27 +319,30 @@ std::vector<double> factors_with(const System& sys, double gamma, int& iteration
 
 }  // namespace
 
-InterfaceCorrection correct_level_interfaces(BondList& b, const DualList& d, const ParticleStore& p,
-                                             const std::vector<double>& C,
+InterfaceCorrection correct_level_interfaces(BondRows& b, const ParticleStore& p,
+                                             PartialVolume rule, const std::vector<double>& C,
                                              const std::vector<std::int32_t>& region) {
   InterfaceCorrection out;
   const Region in{region, region.empty()};
   const std::size_t n = in.all ? p.size() : region.size();
   auto particle = [&](std::size_t k) { return in.all ? static_cast<std::int32_t>(k) : region[k]; };
-  for (std::size_t k = 0; k < n; ++k) {  // reset the factors inside the region
-    const auto i = static_cast<std::size_t>(particle(k));
-    for (auto e = b.begin(i); e < b.end(i); ++e)
-      if (in.has(b.neighbor[e])) b.stiffness[e] = 1.0;
-  }
-  HorizonTests tests(b, d, p);
+  if (!b.factor.empty())
+    for (std::size_t k = 0; k < n; ++k) {  // reset the factors inside the region
+      const auto i = static_cast<std::size_t>(particle(k));
+      for_each_own_bond(b, i, [&](std::int64_t e, std::size_t j) {
+        if (in.has(static_cast<std::int32_t>(j))) b.factor[e] = 1.0f;
+      });
+    }
+  HorizonTests tests(b, p, rule);
   std::vector<std::int32_t> constrained;
   for (std::size_t k = 0; k < n; ++k)
     if (tests.constrained(particle(k))) constrained.push_back(particle(k));
-  const System sys = assemble(b, d, p, C, std::move(constrained));
+  const System sys = assemble(b, p, rule, C, std::move(constrained));
   if (sys.us.empty()) return out;
   // The weakest damping whose factors stay within bounds but for a few (kClippedShare): where
   // the bonds cannot cancel a moment with moderate factors, a stronger Tikhonov weight leaves part
   // of it (never a soft or negative bond); the remaining few are clipped.
+  if (b.factor.empty()) b.factor.assign(static_cast<std::size_t>(b.rows.arena), 1.0f);
   std::vector<double> lambda;
   for (const double gamma : {1e-3, 1e-1}) {
     lambda = factors_with(sys, gamma, out.iterations);
@@ -351,14 +354,14 @@ InterfaceCorrection correct_level_interfaces(BondList& b, const DualList& d, con
   for (std::size_t k = 0; k < sys.us.size(); ++k) {
     const double clipped = std::clamp(lambda[k], kSmallestFactor - 1.0, kLargestFactor - 1.0);
     out.clipped += clipped != lambda[k] ? 1 : 0;
-    b.stiffness[static_cast<std::size_t>(sys.us[k].bond)] = 1.0 + clipped;
+    b.factor[static_cast<std::size_t>(sys.us[k].bond)] = static_cast<float>(1.0 + clipped);
     out.smallest = std::min(out.smallest, 1.0 + clipped);
     out.largest = std::max(out.largest, 1.0 + clipped);
   }
   double after = 0.0;
   for (std::size_t k = 0; k < sys.constrained.size(); ++k) {
     if (!sys.touched[k]) continue;
-    const auto t = third_moment(b, d, p, C, static_cast<std::size_t>(sys.constrained[k]));
+    const auto t = third_moment(b, p, rule, C, static_cast<std::size_t>(sys.constrained[k]));
     after = std::max(after, Eigen::Map<const Eigen::VectorXd>(t.data(), sys.c).norm());
   }
   out.particles = sys.constrained.size();

@@ -37,21 +37,22 @@ inline double complete_horizon_moment(int dim) {
   return dim == 1 ? 0.25 : 0.15;
 }
 
-/// Recomputes bonds.stiffness for the bonds with both ends in `region` (sorted particle indices;
-/// every particle when empty): factors reset to 1, then, over the particles of the region that
-/// have a bond (own or dual) across a horizon jump and whose own horizon and whose bond partners'
-/// horizons are complete, the smallest factors (in Σ λ_b² K_b) with
+/// Recomputes the factors φ = 1 + λ (rows.factor, allocated on first use) of the own bonds with
+/// both ends in `region` (sorted particle indices; every particle when empty): factors reset to 1,
+/// then, over the particles of the region that have a bond (own or dual) across a horizon jump and
+/// whose own horizon and whose bond partners' horizons are complete, the smallest factors (in
+/// Σ λ_b² K_b) with
 ///   T_p = Σ_{b ∋ p} K_b (1 + λ_b) V_other n⊗n⊗n = 0     (n from p to the other end)
-/// which makes the force on p vanish for every small homogeneous strain. K_b = C_owner β_b.
-InterfaceCorrection correct_level_interfaces(BondList& bonds, const DualList& dual,
-                                             const ParticleStore& p,
+/// which makes the force on p vanish for every small homogeneous strain. K_b = C_owner β_b. The
+/// caller derives the stiffness of the region's rows again.
+InterfaceCorrection correct_level_interfaces(BondRows& rows, const ParticleStore& p,
+                                             PartialVolume rule,
                                              const std::vector<double>& micromodulus,
                                              const std::vector<std::int32_t>& region);
 
 /// The third moment T_p of particle p's bonds as above (1, 4 or 10 components in 1D, 2D, 3D),
 /// with the current factors. Exposed for the tests.
-std::vector<double> third_moment(const BondList& bonds, const DualList& dual,
-                                 const ParticleStore& p, const std::vector<double>& micromodulus,
-                                 std::size_t particle);
+std::vector<double> third_moment(const BondRows& rows, const ParticleStore& p, PartialVolume rule,
+                                 const std::vector<double>& micromodulus, std::size_t particle);
 
 }  // namespace dhpd

@@ -13,8 +13,8 @@ namespace {
 
 /// out = M⁻¹ K u per unit mass density: (1/ρ_i) Σ_k K_k/|ξ_k| (e_k · (u_o − u_i)) e_k, negated.
 template <int Dim>
-void apply_stiffness(const InteractionList& il, const ParticleStore& p,
-                     const std::vector<double>& u, std::vector<double>& out) {
+void apply_stiffness(const BondRows& il, const ParticleStore& p, const std::vector<double>& u,
+                     std::vector<double>& out) {
   const auto n = static_cast<std::int64_t>(p.size());
   const auto& X = p.reference_position;
 #pragma omp parallel for schedule(static) if (n >= kParallelMinParticles)
@@ -27,7 +27,8 @@ void apply_stiffness(const InteractionList& il, const ParticleStore& p,
         e[a] = (X[a][o] - X[a][i]) * il.inv_length[k];
         ew += e[a] * (u[o * Dim + a] - u[i * Dim + a]);
       }
-      const double scale = il.coefficient[k] * il.inv_length[k] * ew;
+      const double scale = static_cast<double>(il.stiffness[k]) * il.stiffness_scale * p.volume[o] *
+                           il.inv_length[k] * ew;
       for (int a = 0; a < Dim; ++a) acc[a] += scale * e[a];
     }
     for (int a = 0; a < Dim; ++a) out[i * Dim + a] = -acc[a] / p.density[i];
@@ -71,7 +72,7 @@ void start_vector(const ParticleStore& p, std::vector<double>& u) {
 }
 
 template <int Dim>
-PowerEstimate iterate(const InteractionList& il, const ParticleStore& p, int max_iterations,
+PowerEstimate iterate(const BondRows& il, const ParticleStore& p, int max_iterations,
                       double tolerance) {
   const std::size_t n = p.size();
   std::vector<double> u, ku(n * Dim);
@@ -125,7 +126,7 @@ double largest_tridiagonal_eigenvalue(const std::vector<double>& a, const std::v
 /// Lanczos in the mass inner product (M⁻¹K is symmetric in it), without reorthogonalisation:
 /// the largest Ritz value converges first and lost orthogonality only adds copies of it.
 template <int Dim>
-PowerEstimate lanczos(const InteractionList& il, const ParticleStore& p, int max_iterations,
+PowerEstimate lanczos(const BondRows& il, const ParticleStore& p, int max_iterations,
                       double tolerance) {
   const std::size_t n = p.size();
   std::vector<double> v, previous(n * Dim, 0.0), w(n * Dim);
@@ -162,13 +163,13 @@ PowerEstimate lanczos(const InteractionList& il, const ParticleStore& p, int max
 
 }  // namespace
 
-PowerEstimate lanczos_stable_step(const InteractionList& il, const ParticleStore& p,
-                                  int max_iterations, double tolerance) {
+PowerEstimate lanczos_stable_step(const BondRows& il, const ParticleStore& p, int max_iterations,
+                                  double tolerance) {
   return with_dim(p.dim(), [&](auto d) { return lanczos<d()>(il, p, max_iterations, tolerance); });
 }
 
-PowerEstimate largest_stable_step(const InteractionList& il, const ParticleStore& p,
-                                  int max_iterations, double tolerance) {
+PowerEstimate largest_stable_step(const BondRows& il, const ParticleStore& p, int max_iterations,
+                                  double tolerance) {
   return with_dim(p.dim(), [&](auto d) { return iterate<d()>(il, p, max_iterations, tolerance); });
 }
 

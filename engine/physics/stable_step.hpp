@@ -20,7 +20,7 @@ struct PowerEstimate {
 /// from ±1 per particle and axis (a hash of its reference position: the same for any thread
 /// count and any order of the slots),
 /// stops after `max_iterations` or when ω² changes by less than `tolerance`.
-PowerEstimate largest_stable_step(const InteractionList& il, const ParticleStore& p,
+PowerEstimate largest_stable_step(const BondRows& il, const ParticleStore& p,
                                   int max_iterations = 200, double tolerance = 1e-5);
 
 /// The same estimate by Lanczos iteration in the mass inner product from the same start vector:
@@ -29,7 +29,7 @@ PowerEstimate largest_stable_step(const InteractionList& il, const ParticleStore
 /// the eighth on). `last_change` is that change. On the 16,000-particle glass plate ω² is within
 /// 0.2 % of its 100-iteration value after 20 iterations (the top of a PD spectrum is a dense
 /// cluster: the last digits come slowly), and the default stops near 35.
-PowerEstimate lanczos_stable_step(const InteractionList& il, const ParticleStore& p,
+PowerEstimate lanczos_stable_step(const BondRows& il, const ParticleStore& p,
                                   int max_iterations = 80, double tolerance = 1e-4);
 
 }  // namespace dhpd

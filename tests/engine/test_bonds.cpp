@@ -1,9 +1,11 @@
-// Bonds and dual lists (engine/discretization/bonds.*; docs/theory.md §2, §7): a from-scratch build
-// holds exactly the pairs brute force finds, with their lengths and weights; every dual entry of j
-// names a bond whose neighbour is j and every bond appears exactly once in its neighbour's dual
-// row; on a uniform lattice with one horizon the bonds are symmetric; renumbering the particles
-// keeps every bond's length, weight, stiffness and state, ignores garbage slots and packs the rows.
+// Bond rows (engine/discretization/bonds.*, bond_edit.cpp; docs/theory.md §2, §7, §18): a
+// from-scratch build holds exactly the pairs brute force finds, each own bond with its length
+// and weight and each dual side in the other row; the build is the same for 1 and 2 threads; on a
+// uniform lattice with one horizon every entry holds both bonds of its pair; replacing own bonds
+// keeps the rows consistent and equals a build of the new bond set; renumbering keeps every bond's
+// length, state, factor and stiffness, ignores garbage and packs the rows.
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <algorithm>
 #include <cmath>
@@ -52,79 +54,64 @@ TEST(Bonds, BuildFindsExactlyTheBruteForcePairsWithTheirLengthsAndWeights) {
     const double h = dim == 1 ? 0.01 : (dim == 2 ? 0.03 : 0.08);
     // Spacings spread over [h, 3h]: horizons differ, so the bond sets are not symmetric.
     const auto p = test::random_cloud(dim, n, h, 3.0, 3.015, 31 + dim);
-    const auto bonds = build_bonds(p, PartialVolume::Linear, {});
+    const auto b = build_bond_rows(p, PartialVolume::Linear, {});
     const auto expected = brute_force_bonds(p);
-    ASSERT_EQ(bonds.size(), expected.size()) << dim;
-    std::size_t asymmetric = 0;
-    for (std::size_t i = 0; i < p.size(); ++i) {
-      for (auto k = bonds.begin(i); k < bonds.end(i); ++k) {
-        const auto j = bonds.neighbor[k];
-        const auto it = expected.find({static_cast<std::int32_t>(i), j});
-        ASSERT_NE(it, expected.end()) << dim << "D bond " << i << " -> " << j;
-        EXPECT_EQ(bonds.length[k], it->second.first);  // the same arithmetic: the same bits
-        EXPECT_EQ(bonds.weight[k], it->second.second);
-        EXPECT_EQ(bonds.intact[k], 1);
-        EXPECT_EQ(bonds.stiffness[k], 1.0);
-        asymmetric += !expected.count({j, static_cast<std::int32_t>(i)});
+    ASSERT_EQ(b.bond_count(), expected.size()) << dim;
+    std::size_t dual_only = 0, dual_sides = 0;
+    for (std::size_t i = 0; i < p.size(); ++i)
+      for (auto k = b.begin(i); k < b.end(i); ++k) {
+        const auto j = b.other[k];
+        const auto own = expected.find({static_cast<std::int32_t>(i), j});
+        const auto dual = expected.find({j, static_cast<std::int32_t>(i)});
+        EXPECT_EQ(b.has_own(k), own != expected.end()) << dim << "D " << i << " -> " << j;
+        EXPECT_EQ(b.has_dual(k), dual != expected.end()) << dim << "D " << j << " -> " << i;
+        EXPECT_TRUE(b.own_intact(k) == b.has_own(k) && b.dual_intact(k) == b.has_dual(k));
+        dual_sides += b.has_dual(k);
+        dual_only += !b.has_own(k);
+        if (own == expected.end()) continue;
+        // 1/|ξ| is stored; |ξ| = 1/(1/|ξ|) is within an ulp of the distance, β at that length.
+        EXPECT_NEAR(b.length(k), own->second.first, 2e-16 * own->second.first);
+        EXPECT_NEAR(
+            bond_weight(p, PartialVolume::Linear, i, static_cast<std::size_t>(j), b.length(k)),
+            own->second.second, 1e-12);
       }
-      EXPECT_TRUE(std::is_sorted(bonds.neighbor.begin() + bonds.begin(i),
-                                 bonds.neighbor.begin() + bonds.end(i)));
-    }
-    EXPECT_GT(asymmetric, 0u) << dim << "D: the cloud should have pairs in one horizon only";
-    EXPECT_EQ(bonds.rows.garbage, 0);
-    EXPECT_EQ(bonds.rows.arena, bonds.live);
+    EXPECT_EQ(dual_sides, expected.size()) << dim << "D: every bond's dual side in its row";
+    EXPECT_GT(dual_only, 0u) << dim << "D: the cloud should have pairs in one horizon only";
+    EXPECT_EQ(b.rows.garbage, 0);
+    EXPECT_EQ(b.rows.arena, b.live);
+    expect_consistent(b, p.size(), std::to_string(dim) + "D", false);
   }
 }
 
-TEST(Bonds, DualEntriesReferToBondsOnTheirParticleEachBondOnce) {
-  for (const int dim : {1, 2, 3}) {
-    const auto p =
-        test::random_cloud(dim, dim == 3 ? 600 : 400, dim == 3 ? 0.07 : 0.02, 4.0, 3.015, 7 + dim);
-    for (const auto pv : {PartialVolume::None, PartialVolume::Linear, PartialVolume::Exact}) {
-      const auto bonds = build_bonds(p, pv, {});
-      const auto dual = build_dual(bonds);
-      expect_consistent(bonds, dual, p.size(), std::to_string(dim) + "D");
-      // From scratch, every dual row is sorted by bond id and the dual rows hold every bond.
-      std::int64_t entries = 0;
-      for (std::size_t j = 0; j < p.size(); ++j) {
-        EXPECT_TRUE(
-            std::is_sorted(dual.bond.begin() + dual.begin(j), dual.bond.begin() + dual.end(j)));
-        entries += dual.end(j) - dual.begin(j);
-      }
-      EXPECT_EQ(entries, bonds.live);
-    }
+TEST(Bonds, BuildIsTheSameForOneAndTwoThreads) {
+  // Dual-only entries are placed by whichever thread reaches them, then every row is sorted.
+  const auto p = test::random_cloud(3, 6000, 0.02, 3.0, 3.015, 17);
+  for (const auto pv : {PartialVolume::None, PartialVolume::Linear, PartialVolume::Exact}) {
+    omp_set_num_threads(1);
+    const auto one = build_bond_rows(p, pv, {});
+    omp_set_num_threads(2);
+    const auto two = build_bond_rows(p, pv, {});
+    EXPECT_EQ(one.rows.start, two.rows.start);
+    EXPECT_EQ(one.other, two.other);
+    EXPECT_EQ(one.inv_length, two.inv_length);
+    EXPECT_EQ(one.flags, two.flags);
+    expect_consistent(two, p.size(), "two threads", false);
   }
 }
 
-TEST(Bonds, UniformLatticeWithOneHorizonIsSymmetric) {
+TEST(Bonds, UniformLatticeWithOneHorizonHoldsBothBondsInEveryEntry) {
   for (const int dim : {1, 2, 3}) {
     Section s;
     s.dim = dim;
     const auto p = test::lattice_store(dim, dim == 1 ? 30 : (dim == 2 ? 14 : 7), 1e-3, 3.015, s);
     for (const auto pv : {PartialVolume::None, PartialVolume::Linear}) {
-      const auto bonds = build_bonds(p, pv, {});
-      const auto dual = build_dual(bonds);
-      expect_consistent(bonds, dual, p.size());
-      // (i -> j) exists exactly when (j -> i) does, with the same length and weight bits.
-      std::map<std::pair<std::int32_t, std::int32_t>, std::pair<double, double>> by_pair;
+      const auto b = build_bond_rows(p, pv, {});
+      expect_consistent(b, p.size(), std::to_string(dim) + "D", false);
+      std::size_t one_sided = 0;
       for (std::size_t i = 0; i < p.size(); ++i)
-        for (auto k = bonds.begin(i); k < bonds.end(i); ++k)
-          by_pair[{static_cast<std::int32_t>(i), bonds.neighbor[k]}] = {bonds.length[k],
-                                                                        bonds.weight[k]};
-      std::size_t missing = 0, different = 0;
-      for (const auto& [ij, value] : by_pair) {
-        const auto it = by_pair.find({ij.second, ij.first});
-        if (it == by_pair.end()) {
-          ++missing;
-          continue;
-        }
-        different += it->second != value;
-      }
-      EXPECT_EQ(missing, 0u) << dim;
-      EXPECT_EQ(different, 0u) << dim;
-      // So each particle's dual row is as long as its own row.
-      for (std::size_t i = 0; i < p.size(); ++i)
-        EXPECT_EQ(dual.end(i) - dual.begin(i), bonds.end(i) - bonds.begin(i)) << i;
+        for (auto k = b.begin(i); k < b.end(i); ++k) one_sided += !(b.has_own(k) && b.has_dual(k));
+      EXPECT_EQ(one_sided, 0u) << dim;
+      EXPECT_EQ(b.live, b.own_bonds) << dim << ": one entry per directed bond";
       // An interior particle has every lattice offset within 3.015 Δx: 6 in 1D, 28 in 2D, 122 in
       // 3D (counted by hand: offsets (a, b, c) with a² + b² + c² <= 9).
       std::size_t centre = 0;
@@ -135,112 +122,116 @@ TEST(Bonds, UniformLatticeWithOneHorizonIsSymmetric) {
         if (d2 < best) best = d2, centre = i;
       }
       const std::int64_t interior = dim == 1 ? 6 : (dim == 2 ? 28 : 122);
-      EXPECT_EQ(bonds.end(centre) - bonds.begin(centre), interior) << dim;
+      EXPECT_EQ(b.own_count(centre), interior) << dim;
     }
   }
 }
 
-TEST(Bonds, DualAddAndRemoveKeepTheOthersInOrder) {
-  Section s;
-  s.dim = 2;
-  const auto p = test::lattice_store(2, 10, 1e-3, 3.015, s);
-  const auto bonds = build_bonds(p, PartialVolume::Linear, {});
-  auto dual = build_dual(bonds);
-  const std::size_t j = 44;
-  auto row = [&] {
-    return std::vector<BondId>(dual.bond.begin() + dual.begin(j), dual.bond.begin() + dual.end(j));
-  };
-  const auto before = row();
-  ASSERT_GT(before.size(), 5u);
-  const auto start = dual.rows.start[j];
-  dual.remove(j, before[2]);
-  auto expected = before;
-  expected.erase(expected.begin() + 2);
-  EXPECT_EQ(row(), expected);
-  // Back in: appended at the end of the row, which still fits in its room and stays.
-  dual.add(j, before[2]);
-  expected.push_back(before[2]);
-  EXPECT_EQ(row(), expected);
-  EXPECT_EQ(dual.rows.start[j], start);
-  EXPECT_EQ(dual.rows.garbage, 0);
-  expect_consistent(bonds, dual, p.size());
-  // One more than its room: the row moves to the end of the arena with its entries.
-  dual.add(j, 123456);
-  expected.push_back(123456);
-  EXPECT_EQ(row(), expected);
-  EXPECT_NE(dual.rows.start[j], start);
-  EXPECT_EQ(dual.rows.garbage, static_cast<std::int64_t>(before.size()));
-  dual.remove(j, 123456);
-  expected.pop_back();
-  EXPECT_EQ(row(), expected);
-  expect_consistent(bonds, dual, p.size(), "after the move");
-  EXPECT_THROW(dual.remove(j, 123456), EngineError);
-}
-
-/// (owner, neighbour) → (length, weight, stiffness, intact) of every live bond.
-using BondMap = std::map<std::pair<std::int32_t, std::int32_t>,
-                         std::tuple<double, double, double, std::uint8_t>>;
-BondMap bond_map(const BondList& b) {
-  BondMap m;
+/// (owner, neighbour) → intact of every own bond.
+using BondSet = std::map<std::pair<std::int32_t, std::int32_t>, bool>;
+BondSet own_bonds(const BondRows& b) {
+  BondSet m;
   for (std::size_t i = 0; i < b.particles(); ++i)
-    for (auto k = b.begin(i); k < b.end(i); ++k)
-      m[{static_cast<std::int32_t>(i), b.neighbor[k]}] = {b.length[k], b.weight[k], b.stiffness[k],
-                                                          b.intact[k]};
+    for_each_own_bond(b, i, [&](std::int64_t k, std::size_t j) {
+      m[{static_cast<std::int32_t>(i), static_cast<std::int32_t>(j)}] = b.own_intact(k);
+    });
   return m;
 }
 
-TEST(Bonds, RenumberedBondsKeepEveryBondUnderARandomPermutation) {
+TEST(Bonds, ReplacingOwnBondsKeepsTheRowsConsistentAndHoldsExactlyTheNewBonds) {
+  for (const int dim : {2, 3}) {
+    const auto p = test::random_cloud(dim, 500, dim == 2 ? 0.02 : 0.07, 3.0, 3.015, 40 + dim);
+    auto b = build_bond_rows(p, PartialVolume::Linear, {});
+    auto expected = own_bonds(b);
+    std::mt19937 rng(9 + dim);
+    // Owners lose some bonds, keep others (some broken), and gain bonds to new neighbours (rows
+    // grow past their room and move); one owner loses every bond.
+    std::vector<std::int32_t> owners;
+    for (std::int32_t i = 0; i < 500; i += 7) owners.push_back(i);
+    std::vector<std::vector<NewBond>> bonds(owners.size());
+    for (std::size_t r = 0; r < owners.size(); ++r) {
+      const auto i = owners[r];
+      for (auto it = expected.begin(); it != expected.end();)
+        it = it->first.first == i ? expected.erase(it) : std::next(it);
+      if (r == 3) continue;
+      std::vector<std::int32_t> to;
+      for (std::int32_t j = 0; j < 500; ++j)
+        if (j != i && rng() % 4 == 0) to.push_back(j);
+      for (const auto j : to) {
+        const bool intact = rng() % 3 != 0;
+        bonds[r].push_back({j, intact});
+        expected[{i, j}] = intact;
+      }
+    }
+    const auto changed = replace_own_bonds(b, p, owners, bonds);
+    EXPECT_GT(b.rows.garbage, 0) << "rows should have moved";
+    expect_consistent(b, p.size(), std::to_string(dim) + "D after the replacement", false);
+    EXPECT_TRUE(own_bonds(b) == expected)
+        << dim << "D: a bond missing, extra or in the wrong state";
+    EXPECT_TRUE(std::is_sorted(changed.begin(), changed.end()));
+    for (const auto i : owners) EXPECT_TRUE(std::binary_search(changed.begin(), changed.end(), i));
+    // Lengths are those of the reference positions, as a build gives them.
+    for (std::size_t i = 0; i < p.size(); ++i)
+      for (auto k = b.begin(i); k < b.end(i); ++k)
+        EXPECT_EQ(b.inv_length[k],
+                  inverse_reference_length(p, i, static_cast<std::size_t>(b.other[k])));
+  }
+}
+
+TEST(Bonds, RenumberedRowsKeepEveryBondUnderARandomPermutation) {
   for (const int dim : {2, 3}) {
     const auto p = test::random_cloud(dim, 400, dim == 2 ? 0.02 : 0.07, 3.0, 3.015, 90 + dim);
-    auto bonds = build_bonds(p, PartialVolume::Linear, {});
-    // State that must survive: some bonds broken, stiffness factors of interfaces.
+    auto a = test::assemble(p, ForceModel::DualHorizon, PartialVolume::Linear,
+                            Material{72e9, 2440, 3.8}, Section{dim});
+    auto& b = a.bonds;
+    // State that must survive: some bonds broken (both sides), factors of level interfaces.
     std::mt19937 rng(4 + dim);
-    for (std::size_t k = 0; k < bonds.slots(); ++k) {
-      if (rng() % 5 == 0) bonds.intact[k] = 0;
-      bonds.stiffness[k] = 1.0 + 0.01 * static_cast<double>(rng() % 50);
-    }
+    b.factor.assign(b.other.size(), 1.0f);
+    for (std::size_t i = 0; i < p.size(); ++i)
+      for_each_own_bond(b, i, [&](std::int64_t k, std::size_t j) {
+        b.factor[k] = 1.0f + 0.01f * static_cast<float>(rng() % 50);
+        if (rng() % 5) return;
+        b.flags[k] &= static_cast<std::uint8_t>(~kOwnIntact);
+        const auto m = b.find(j, static_cast<std::int32_t>(i));
+        b.flags[m] &= static_cast<std::uint8_t>(~kDualIntact);
+      });
+    a.refresh(p);
     // Row 3 grows the way an event grows it: it moves to the end of the arena, leaving garbage.
-    const auto old_start = bonds.begin(3);
-    const auto count = bonds.rows.count[3];
-    const auto at = bonds.rows.make_room(3, count + 5);
-    bonds.fit_arena();
-    for (std::int32_t k = 0; k < count; ++k) {
-      const auto from = static_cast<std::size_t>(old_start + k),
-                 to = static_cast<std::size_t>(at + k);
-      bonds.owner[to] = bonds.owner[from], bonds.neighbor[to] = bonds.neighbor[from];
-      bonds.length[to] = bonds.length[from], bonds.weight[to] = bonds.weight[from];
-      bonds.stiffness[to] = bonds.stiffness[from], bonds.intact[to] = bonds.intact[from];
-      bonds.owner[from] = bonds.neighbor[from] = -1;
-    }
-    ASSERT_GT(bonds.rows.garbage, 0);
-    expect_consistent(bonds, build_dual(bonds), p.size(), "before");
-    const auto before = bond_map(bonds);
+    std::vector<NewBond> row3;
+    for_each_own_bond(b, 3, [&](std::int64_t k, std::size_t j) {
+      row3.push_back({static_cast<std::int32_t>(j), b.own_intact(k)});
+    });
+    for (std::int32_t j = 390; j < 400; ++j) row3.push_back({j, true});
+    replace_own_bonds(b, p, {3}, {row3});
+    a.refresh(p);
+    ASSERT_GT(b.rows.garbage, 0);
+    expect_consistent(b, p.size(), "before");
 
     std::vector<std::int32_t> order(p.size()), new_index(p.size());
     std::iota(order.begin(), order.end(), 0);
     std::shuffle(order.begin(), order.end(), rng);
     for (std::size_t k = 0; k < order.size(); ++k)
       new_index[static_cast<std::size_t>(order[k])] = static_cast<std::int32_t>(k);
-    const auto renumbered = renumbered_bonds(bonds, order, new_index);
+    const auto renumbered = renumbered_rows(b, order, new_index);
 
-    EXPECT_EQ(renumbered.size(), bonds.size());
+    EXPECT_EQ(renumbered.own_bonds, b.own_bonds);
     EXPECT_EQ(renumbered.rows.garbage, 0);
     EXPECT_EQ(renumbered.rows.arena, renumbered.live);
     EXPECT_EQ(renumbered.rows.capacity, renumbered.rows.count);
-    expect_consistent(renumbered, build_dual(renumbered), p.size(), "after");
-    BondMap expected;
-    for (const auto& [ij, value] : before)
-      expected[{new_index[static_cast<std::size_t>(ij.first)],
-                new_index[static_cast<std::size_t>(ij.second)]}] = value;
-    EXPECT_TRUE(bond_map(renumbered) == expected) << dim << "D: a bond changed or went missing";
-    for (std::size_t k = 0; k < p.size(); ++k) {
-      EXPECT_EQ(renumbered.rows.count[k], bonds.rows.count[static_cast<std::size_t>(order[k])]);
-      EXPECT_TRUE(std::is_sorted(renumbered.neighbor.begin() + renumbered.begin(k),
-                                 renumbered.neighbor.begin() + renumbered.end(k)));
-    }
-    // The identity permutation gives back a packed copy of the same bonds.
-    std::iota(order.begin(), order.end(), 0);
-    EXPECT_TRUE(bond_map(renumbered_bonds(bonds, order, order)) == before);
+    expect_consistent(renumbered, p.size(), "after");
+    // Every entry with its length, flags, factor and stiffness under its new indices.
+    using Entry = std::tuple<double, std::uint8_t, float, float>;
+    std::map<std::pair<std::int32_t, std::int32_t>, Entry> before, after;
+    for (std::size_t i = 0; i < p.size(); ++i)
+      for (auto k = b.begin(i); k < b.end(i); ++k)
+        before[{new_index[i], new_index[static_cast<std::size_t>(b.other[k])]}] = {
+            b.inv_length[k], b.flags[k], b.factor[k], b.stiffness[k]};
+    for (std::size_t i = 0; i < p.size(); ++i)
+      for (auto k = renumbered.begin(i); k < renumbered.end(i); ++k)
+        after[{static_cast<std::int32_t>(i), renumbered.other[k]}] = {
+            renumbered.inv_length[k], renumbered.flags[k], renumbered.factor[k],
+            renumbered.stiffness[k]};
+    EXPECT_TRUE(before == after) << dim << "D: an entry changed or went missing";
   }
 }
 

@@ -26,7 +26,7 @@ TEST(CrackBonds, BondsAreExactlyThePairsThatCrossNoCrack) {
     else
       cracks.push_back(
           {{{0, 0, 0.0041}, {0.005, 0, 0.0041}, {0.005, 0.008, 0.0041}, {0, 0.008, 0.0041}}});
-    const auto bonds = build_bonds(p, PartialVolume::None, cracks);
+    const auto bonds = build_bond_rows(p, PartialVolume::None, cracks);
     std::size_t expected = 0;
     for (std::size_t i = 0; i < p.size(); ++i)
       for (std::size_t j = 0; j < p.size(); ++j) {
@@ -41,7 +41,7 @@ TEST(CrackBonds, BondsAreExactlyThePairsThatCrossNoCrack) {
     std::size_t crossing = 0;
     for (std::size_t i = 0; i < p.size(); ++i)
       for (auto k = bonds.begin(i); k < bonds.end(i); ++k) {
-        const auto j = static_cast<std::size_t>(bonds.neighbor[k]);
+        const auto j = static_cast<std::size_t>(bonds.other[k]);
         const geometry::Vec3 a{p.reference_position[0][i], p.reference_position[1][i],
                                p.reference_position[2][i]};
         const geometry::Vec3 b{p.reference_position[0][j], p.reference_position[1][j],
@@ -49,8 +49,8 @@ TEST(CrackBonds, BondsAreExactlyThePairsThatCrossNoCrack) {
         crossing += geometry::crosses(cracks[0], a, b, dim);
       }
     EXPECT_EQ(crossing, 0u) << dim;
-    EXPECT_EQ(bonds.size(), expected) << dim;
-    EXPECT_LT(bonds.size(), build_bonds(p, PartialVolume::None, {}).size()) << dim;
+    EXPECT_EQ(bonds.bond_count(), expected) << dim;
+    EXPECT_LT(bonds.bond_count(), build_bond_rows(p, PartialVolume::None, {}).bond_count()) << dim;
   }
 }
 

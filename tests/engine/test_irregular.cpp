@@ -43,10 +43,10 @@ TEST(IrregularMomentum, DualHorizonBalancesOnATetrahedralMesh) {
   const Material m{70e9, 2700, 1.0};
   auto q = p;
   auto dh = test::assemble(q, ForceModel::DualHorizon, PartialVolume::Linear, m, s);
-  internal_force_density(dh.rows, q);
+  internal_force_density(dh.bonds, q);
   const auto b = test::momentum_balance(q);
   auto cv = test::assemble(p, ForceModel::ClassicalVariable, PartialVolume::Linear, m, s);
-  internal_force_density(cv.rows, p);
+  internal_force_density(cv.bonds, p);
   const auto c = test::momentum_balance(p);
   std::printf(
       "3D mesh %zu nodes: DH-PD |ΣF|/Σ|F| = %.2e, |ΣM|/Σ|M| = %.2e; classical-variable "
@@ -71,11 +71,11 @@ TEST(IrregularMomentum, DualHorizonBalancesOnAGradedMesh) {
   for (const auto pv : {PartialVolume::None, PartialVolume::Linear}) {
     auto q = p;
     auto dh = test::assemble(q, ForceModel::DualHorizon, pv, m, s);
-    internal_force_density(dh.rows, q);
+    internal_force_density(dh.bonds, q);
     const auto b = test::momentum_balance(q);
     auto r = p;
     auto cv = test::assemble(r, ForceModel::ClassicalVariable, pv, m, s);
-    internal_force_density(cv.rows, r);
+    internal_force_density(cv.bonds, r);
     const auto c = test::momentum_balance(r);
     std::printf(
         "mesh %zu nodes, %s: DH-PD |ΣF|/Σ|F| = %.2e, |ΣM|/Σ|M| = %.2e; classical-variable "
@@ -108,7 +108,7 @@ EnergyError uniaxial_strain_error(const geometry::PointSet& pts, int dim, double
   const Material m{E, 2400, 1.0};
   auto a = test::assemble(p, ForceModel::DualHorizon, pv, m, s);
   std::vector<double> w;
-  strain_energy_density(a.bonds, p, a.C, w);
+  strain_energy_density(a.bonds, a.constants(p), w);
   const double nu = implied_poisson_ratio(s);
   const double modulus = dim == 2 ? E / (1 - nu * nu) : E * (1 - nu) / ((1 + nu) * (1 - 2 * nu));
   const double exact = 0.5 * modulus * eps * eps;

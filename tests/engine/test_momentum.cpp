@@ -14,7 +14,7 @@ Balance forces_of(ParticleStore p, ForceModel model, int dim) {
   s.dim = dim;
   const Material m{1e9, 1000, 1.0};
   auto a = test::assemble(p, model, PartialVolume::Linear, m, s);
-  internal_force_density(a.rows, p);
+  internal_force_density(a.bonds, p);
   return test::momentum_balance(p);
 }
 
@@ -39,7 +39,9 @@ TEST_P(MomentumTest, DualHorizonBalancesAndClassicalVariableDoesNot) {
 
 INSTANTIATE_TEST_SUITE_P(Dimensions, MomentumTest, ::testing::Values(1, 2, 3));
 
-// Scatter reference: compute each bond once and add it to both ends (docs/theory.md §4).
+// Scatter reference: compute each bond once and add it to both ends (docs/theory.md §4). The rows
+// store each pair's stiffness in single precision (§18), so the two agree to 2⁻²⁴ of each bond's
+// force; a structural error (a dual part missing or counted twice) is off by tens of percent.
 TEST(GatherVersusScatter, SameForcesOnVaryingHorizons) {
   for (int dim : {2, 3}) {
     auto p = test::random_cloud(dim, 400, dim == 2 ? 0.01 : 0.03, 10.0, 3.015, 7);
@@ -47,30 +49,35 @@ TEST(GatherVersusScatter, SameForcesOnVaryingHorizons) {
     s.dim = dim;
     const Material m{2e9, 1000, 1.0};
     auto a = test::assemble(p, ForceModel::DualHorizon, PartialVolume::Linear, m, s);
-    internal_force_density(a.rows, p);
+    internal_force_density(a.bonds, p);
     std::vector<double> ref[3];
     for (auto& r : ref) r.assign(p.size(), 0.0);
     double scale = 0;
     for (std::size_t i = 0; i < p.size(); ++i)
-      for (auto b = a.bonds.begin(i); b < a.bonds.end(i); ++b) {
-        const auto j = static_cast<std::size_t>(a.bonds.neighbor[b]);
+      for_each_own_bond(a.bonds, i, [&](std::int64_t b, std::size_t j) {
         double d[3], l = 0;
         for (int k = 0; k < 3; ++k) d[k] = p.position[k][j] - p.position[k][i], l += d[k] * d[k];
         l = std::sqrt(l);
-        const double stretch = (l - a.bonds.length[b]) / a.bonds.length[b];
-        const double f = a.C[i] * stretch * a.bonds.weight[b] / l;  // per volume²
+        const double length =
+            std::sqrt(std::pow(p.reference_position[0][j] - p.reference_position[0][i], 2) +
+                      std::pow(p.reference_position[1][j] - p.reference_position[1][i], 2) +
+                      std::pow(p.reference_position[2][j] - p.reference_position[2][i], 2));
+        const double stretch = (l - length) / length;
+        const double beta = bond_weight(p, PartialVolume::Linear, i, j, length);
+        const double f = a.C[i] * stretch * beta / l;  // per volume²
         for (int k = 0; k < 3; ++k) {
           ref[k][i] += f * d[k] * p.volume[j];
           ref[k][j] -= f * d[k] * p.volume[i];
         }
-      }
+        (void)b;
+      });
     double err = 0;
     for (int k = 0; k < 3; ++k)
       for (std::size_t i = 0; i < p.size(); ++i) {
         err = std::max(err, std::abs(ref[k][i] - p.force_density[k][i]));
         scale = std::max(scale, std::abs(ref[k][i]));
       }
-    EXPECT_LT(err, 1e-12 * scale) << "dim " << dim;
+    EXPECT_LT(err, 1e-7 * scale) << "dim " << dim;
   }
 }
 
@@ -88,8 +95,8 @@ TEST(EqualHorizons, DualHorizonEqualsConstantHorizon) {
     auto q = p;
     auto dh = test::assemble(p, ForceModel::DualHorizon, PartialVolume::Linear, m, s);
     auto ch = test::assemble(q, ForceModel::ConstantHorizon, PartialVolume::Linear, m, s);
-    internal_force_density(dh.rows, p);
-    internal_force_density(ch.rows, q);
+    internal_force_density(dh.bonds, p);
+    internal_force_density(ch.bonds, q);
     double err = 0, scale = 0;
     for (int a = 0; a < dim; ++a)
       for (std::size_t i = 0; i < p.size(); ++i) {

@@ -14,7 +14,7 @@ namespace dhpd {
 namespace {
 
 /// The largest eigenvalue of M⁻¹K assembled densely from the rows (reference directions).
-double dense_largest_omega2(const InteractionList& il, const ParticleStore& p) {
+double dense_largest_omega2(const BondRows& il, const ParticleStore& p) {
   const int dim = p.dim();
   const auto n = static_cast<Eigen::Index>(p.size()) * dim;
   Eigen::MatrixXd A = Eigen::MatrixXd::Zero(n, n);
@@ -24,7 +24,8 @@ double dense_largest_omega2(const InteractionList& il, const ParticleStore& p) {
       double e[3];
       for (int a = 0; a < dim; ++a)
         e[a] = (p.reference_position[a][o] - p.reference_position[a][i]) * il.inv_length[k];
-      const double c = il.coefficient[k] * il.inv_length[k] / p.density[i];
+      const double c = static_cast<double>(il.stiffness[k]) * il.stiffness_scale * p.volume[o] *
+                       il.inv_length[k] / p.density[i];
       for (int a = 0; a < dim; ++a)
         for (int b = 0; b < dim; ++b) {
           const auto row = static_cast<Eigen::Index>(i) * dim + a;
@@ -45,15 +46,15 @@ TEST_P(PowerStableStep, PowerIterationFindsTheLargestEigenvalue) {
   s.dim = dim;
   const auto a =
       test::assemble(p, ForceModel::DualHorizon, PartialVolume::Linear, {1e9, 1000, 1.0}, s);
-  const double exact = dense_largest_omega2(a.rows, p);
-  const auto power = largest_stable_step(a.rows, p);
-  const double bound = critical_time_step(a.rows, p);
+  const double exact = dense_largest_omega2(a.bonds, p);
+  const auto power = largest_stable_step(a.bonds, p);
+  const double bound = critical_time_step(a.bonds, p);
   std::printf("dim %d: power ω² / exact %.5f after %d iterations; bound dt / exact dt %.3f\n", dim,
               power.omega2 / exact, power.iterations, bound / (2.0 / std::sqrt(exact)));
   EXPECT_LE(power.omega2, exact * (1 + 1e-9));  // a Rayleigh quotient never overshoots
   EXPECT_GE(power.omega2, 0.97 * exact);
   EXPECT_LE(bound, 2.0 / std::sqrt(exact));  // the per-particle bound is safe
-  const auto lanczos = lanczos_stable_step(a.rows, p);
+  const auto lanczos = lanczos_stable_step(a.bonds, p);
   std::printf("dim %d: Lanczos ω² / exact %.7f after %d iterations\n", dim, lanczos.omega2 / exact,
               lanczos.iterations);
   EXPECT_LE(lanczos.omega2, exact * (1 + 1e-9));  // a Ritz value never overshoots

@@ -68,7 +68,7 @@ BarRun run_bar(ForceModel model, double fine, bool uniform) {
     r.u.push_back(p.displacement[0][at]);
   }
   std::vector<double> W;  // each particle's own bonds (owner attribution)
-  strain_energy_density(sim.bonds(), p, sim.micromodulus(), W);
+  strain_energy_density(sim.bonds(), sim.bond_constants(), W);
   double coarse = 0, all = 0;
   for (std::size_t i = 0; i < p.size(); ++i) {
     const double v = p.velocity[0][i];

@@ -142,7 +142,7 @@ TEST(RefinementChildren, RefiningTheWholeBodyAtTheStartGivesTheUniformFineRun) {
   Simulation a(coarse), b(fine);
   refine::split(a, all_particles(a));
   ASSERT_EQ(a.particles().size(), b.particles().size());
-  EXPECT_EQ(a.bonds().size(), b.bonds().size());
+  EXPECT_EQ(a.bonds().bond_count(), b.bonds().bond_count());
   EXPECT_NEAR(a.dt(), b.dt(), 1e-12 * b.dt());
   a.run_steps(300);
   b.run_steps(300);
@@ -272,8 +272,8 @@ TEST(RefinementChildren, ThreeDimensionalCrackStaysOpenAroundRefinedParticles) {
     for (std::size_t i = 0; i < p.size(); ++i)
       for (auto k = b.begin(i); k < b.end(i); ++k) {
         const double y0 = p.reference_position[1][i] - 0.004;
-        const double y1 = p.reference_position[1][b.neighbor[k]] - 0.004;
-        n += (y0 * y1 < 0.0 && b.intact[k]) ? 1 : 0;
+        const double y1 = p.reference_position[1][b.other[k]] - 0.004;
+        n += (y0 * y1 < 0.0 && b.own_intact(k)) ? 1 : 0;
       }
     return n;
   };

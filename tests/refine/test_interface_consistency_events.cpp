@@ -74,7 +74,7 @@ double largest_moment(const Simulation& sim, double x0, double x1, double y0, do
   for (std::size_t i = 0; i < p.size(); ++i) {
     const double x = p.reference_position[0][i], y = p.reference_position[1][i];
     if (x < x0 || x > x1 || y < y0 || y > y1) continue;
-    const auto t = third_moment(sim.bonds(), sim.dual(), p, sim.micromodulus(), i);
+    const auto t = third_moment(sim.bonds(), p, sim.setup().partial_volume, sim.micromodulus(), i);
     double n = 0.0;
     for (const double v : t) n += v * v;
     worst = std::max(worst, std::sqrt(n));

@@ -33,11 +33,12 @@ geometry::Vec3 ref(const ParticleStore& p, std::size_t i) {
 std::size_t intact_crossing(const Simulation& sim, const geometry::Crack& line) {
   const auto& b = sim.bonds();
   std::size_t n = 0;
-  for (std::size_t k = 0; k < b.slots(); ++k)  // garbage slots are never intact
-    if (b.intact[k] &&
-        geometry::crosses(line, ref(sim.particles(), static_cast<std::size_t>(b.owner[k])),
-                          ref(sim.particles(), static_cast<std::size_t>(b.neighbor[k])), 2))
-      ++n;
+  for (std::size_t i = 0; i < b.particles(); ++i)
+    for_each_own_bond(b, i, [&](std::int64_t k, std::size_t j) {
+      if (b.own_intact(k) &&
+          geometry::crosses(line, ref(sim.particles(), i), ref(sim.particles(), j), 2))
+        ++n;
+    });
   return n;
 }
 
@@ -75,12 +76,12 @@ TEST(Refinement, NoIntactBondBetweenPreviouslyBrokenPairsAfterARun) {
   const auto old_p = sim.particles();
   const auto old_b = sim.bonds();
   std::set<std::pair<std::int32_t, std::int32_t>> broken;  // by id, both orders
-  for (std::size_t k = 0; k < old_b.slots(); ++k)
-    if (old_b.neighbor[k] >= 0 && !old_b.intact[k]) {
-      const auto i = old_p.id[static_cast<std::size_t>(old_b.owner[k])];
-      const auto j = old_p.id[static_cast<std::size_t>(old_b.neighbor[k])];
+  for (std::size_t x = 0; x < old_b.particles(); ++x)
+    for_each_own_bond(old_b, x, [&](std::int64_t k, std::size_t y) {
+      if (old_b.own_intact(k)) return;
+      const auto i = old_p.id[x], j = old_p.id[y];
       broken.insert({i, j}), broken.insert({j, i});
-    }
+    });
   std::vector<std::uint8_t> marked(old_p.size(), 0);
   for (std::size_t i = 0; i < marked.size(); ++i) marked[i] = sim.particles().damage[i] > 0.0;
   refine::add_buffer(sim.particles(), 1.0, marked);
@@ -90,12 +91,11 @@ TEST(Refinement, NoIntactBondBetweenPreviouslyBrokenPairsAfterARun) {
   auto identity = [&](std::size_t i) { return p.level[i] > 0 ? p.parent_id[i] : p.id[i]; };
   const auto& b = sim.bonds();
   std::size_t violations = 0;
-  for (std::size_t k = 0; k < b.slots(); ++k) {
-    if (b.neighbor[k] < 0) continue;  // garbage slot
-    const auto P = identity(static_cast<std::size_t>(b.owner[k]));
-    const auto Q = identity(static_cast<std::size_t>(b.neighbor[k]));
-    if (b.intact[k] && P != Q && broken.count({P, Q})) ++violations;
-  }
+  for (std::size_t x = 0; x < b.particles(); ++x)
+    for_each_own_bond(b, x, [&](std::int64_t k, std::size_t y) {
+      const auto P = identity(x), Q = identity(y);
+      if (b.own_intact(k) && P != Q && broken.count({P, Q})) ++violations;
+    });
   std::printf("no-healing after a run: %zu broken pairs before, %lld broken bonds after\n",
               broken.size() / 2, static_cast<long long>(sim.broken_bonds()));
   EXPECT_EQ(violations, 0u);

@@ -35,7 +35,7 @@ TEST(Refinement, MomentumAndDamageThroughAnAdaptiveRun) {
     if (refiner.due(k) && refiner.check(sim).parents > 0) ++events;
     if (k % 10 == 0 || k % 5 == 1) {  // before and after an event's step
       auto full = sim.particles();
-      compute_damage(sim.bonds(), full);
+      compute_damage(sim.bonds(), full, sim.setup().partial_volume);
       ASSERT_EQ(full.damage, sim.particles().damage) << "step " << k;
       ++damage_checks;
     }
@@ -85,7 +85,7 @@ TEST(Refinement, ThreeDimensionalSplitConservesAndRefineAllEqualsFine) {
   for (int a = 0; a < 3; ++a)
     EXPECT_NEAR(after.momentum[a], before.momentum[a], 1e-12 * std::abs(before.momentum[0]));
   ASSERT_EQ(coarse.particles().size(), fine.particles().size());
-  EXPECT_EQ(coarse.bonds().size(), fine.bonds().size());
+  EXPECT_EQ(coarse.bonds().bond_count(), fine.bonds().bond_count());
   coarse.run_steps(50);
   fine.run_steps(50);
   const auto ec = coarse.energies(), ef = fine.energies();

@@ -28,12 +28,9 @@ TEST(Refinement, GradingKeepsNeighboursWithinOneLevel) {
   const auto& p = sim.particles();
   const auto& b = sim.bonds();
   EXPECT_EQ(*std::max_element(p.level.begin(), p.level.end()), 3);
-  for (std::size_t k = 0; k < b.slots(); ++k)
-    if (b.neighbor[k] >= 0) {
-      EXPECT_LE(std::abs(p.level[static_cast<std::size_t>(b.owner[k])] -
-                         p.level[static_cast<std::size_t>(b.neighbor[k])]),
-                1);
-    }
+  for (std::size_t i = 0; i < p.size(); ++i)
+    for (auto k = b.begin(i); k < b.end(i); ++k)
+      EXPECT_LE(std::abs(p.level[i] - p.level[static_cast<std::size_t>(b.other[k])]), 1);
   const double area = std::accumulate(p.volume.begin(), p.volume.end(), 0.0) / 1e-3;
   EXPECT_NEAR(area, 4e-4, 1e-16);
 }

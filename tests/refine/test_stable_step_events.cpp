@@ -21,7 +21,7 @@ TEST(StableStepEvents, TheLanczosStepFollowsEveryEvent) {
   s.stable_step = StableStepEstimate::Lanczos;
   Simulation sim(s);
   const double before = sim.critical_dt();
-  EXPECT_GT(before, 1.3 * critical_time_step(sim.interactions(), sim.particles()));
+  EXPECT_GT(before, 1.3 * critical_time_step(sim.bonds(), sim.particles()));
   for (int event = 0; event < 2; ++event) {
     std::vector<std::int32_t> parents;  // a band around the notch tip, wider at each event
     const auto& p = sim.particles();
@@ -30,8 +30,8 @@ TEST(StableStepEvents, TheLanczosStepFollowsEveryEvent) {
           std::abs(p.reference_position[1][i] - 0.01) < 3e-3 && p.spacing[i] > 0.9e-3)
         parents.push_back(static_cast<std::int32_t>(i));
     ASSERT_GT(refine::split(sim, parents).parents, 0u);
-    const double fresh = std::max(critical_time_step(sim.interactions(), sim.particles()),
-                                  lanczos_stable_step(sim.interactions(), sim.particles()).dt);
+    const double fresh = std::max(critical_time_step(sim.bonds(), sim.particles()),
+                                  lanczos_stable_step(sim.bonds(), sim.particles()).dt);
     // Within the Lanczos tolerance (a re-sort after the event sums in another slot order).
     EXPECT_NEAR(sim.critical_dt(), fresh, 1e-4 * fresh) << "event " << event;
     EXPECT_EQ(sim.dt(), s.safety * sim.critical_dt());

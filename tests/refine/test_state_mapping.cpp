@@ -164,12 +164,11 @@ double worst_intact_stretch(const Simulation& sim) {
   double worst = 0.0;
   for (std::size_t i = 0; i < p.size(); ++i)
     for (auto k = b.begin(i); k < b.end(i); ++k)
-      if (b.intact[k] && !p.no_fail[i])
-        worst = std::max(
-            worst, bond_law::stretch(
-                       bond_law::squared_length(p, i, static_cast<std::size_t>(b.neighbor[k])),
-                       b.length[k]) /
-                       sim.critical_stretch()[i]);
+      if (b.own_intact(k) && !p.no_fail[i])
+        worst = std::max(worst, bond_law::stretch(bond_law::squared_length(
+                                                      p, i, static_cast<std::size_t>(b.other[k])),
+                                                  b.length(k)) /
+                                    sim.critical_stretch()[i]);
   return worst;
 }
 
@@ -237,7 +236,7 @@ TEST(RefinementMapping, AtNinetyPercentOfTheFineCriticalStretchChildrenStayIntac
     std::size_t child_bonds = 0;
     const auto& p = sim.particles();
     for (std::size_t i = 0; i < p.size(); ++i)
-      if (p.level[i] == 1 && !p.no_fail[i]) child_bonds += sim.bonds().rows.count[i];
+      if (p.level[i] == 1 && !p.no_fail[i]) child_bonds += sim.bonds().own_count(i);
     std::printf(
         "strained at %.2f s0 of the fine level: %lld of %zu children's bonds started "
         "overstretched\n",

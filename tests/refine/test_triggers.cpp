@@ -28,7 +28,7 @@ TEST(Refinement, EnergyAndStretchTriggersAtUniformCriticalStretch) {
   s.initial_conditions = {ic};
   Simulation sim(s);
   std::vector<double> w;
-  strain_energy_density(sim.bonds(), sim.particles(), sim.micromodulus(), w);
+  strain_energy_density(sim.bonds(), sim.bond_constants(), w);
   const auto crit = refine::critical_energy_density(sim);
   const auto smax = refine::max_bond_stretch(sim);
   for (std::size_t i = 0; i < w.size(); ++i) {

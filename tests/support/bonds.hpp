@@ -1,7 +1,8 @@
-// Consistency of a bond list and its dual lists, for from-scratch builds and after incremental
-// edits (refinement events, re-sorts): every live bond sits in its owner's row and appears exactly
-// once in its neighbour's dual row, and every dual entry names a live bond whose neighbour owns the
-// row. Garbage slots (outside every live row) have owner and neighbour −1.
+// Consistency of bond rows, for from-scratch builds and after incremental edits (refinement
+// events, re-sorts): every live row is sorted by its other particle with no repeat; every entry
+// holds a bond; the own bond of row i's entry j is the dual bond of row j's entry i, with the same
+// intact state, the same 1/|ξ| and (dual-horizon) the same pair stiffness; the counters agree;
+// garbage slots (outside every live row) hold no particle and no bond.
 #pragma once
 #include <gtest/gtest.h>
 
@@ -13,56 +14,55 @@
 
 namespace dhpd::test {
 
-inline void expect_consistent(const BondList& b, const DualList& d, std::size_t particles,
-                              const std::string& what = "") {
+inline void expect_consistent(const BondRows& b, std::size_t particles,
+                              const std::string& what = "", bool pair_stiffness = true) {
   ASSERT_EQ(b.particles(), particles) << what;
-  ASSERT_EQ(d.rows.rows(), particles) << what;
-  ASSERT_EQ(b.slots(), static_cast<std::size_t>(b.rows.arena)) << what;
-  std::vector<std::uint8_t> live(b.slots(), 0);
-  std::int64_t live_count = 0;
-  std::size_t wrong_owner = 0, bad_neighbour = 0, repeated_neighbour = 0;
-  for (std::size_t i = 0; i < particles; ++i) {
-    std::vector<std::int32_t> seen;
+  ASSERT_EQ(b.other.size(), static_cast<std::size_t>(b.rows.arena)) << what;
+  ASSERT_EQ(b.break_ratio2.size(), particles) << what;
+  std::vector<std::uint8_t> live(b.other.size(), 0);
+  std::int64_t live_count = 0, own_count = 0;
+  std::size_t bad_other = 0, unsorted = 0, empty = 0, intact_without_bond = 0;
+  std::size_t unpaired = 0, state_differs = 0, length_differs = 0, stiffness_differs = 0;
+  for (std::size_t i = 0; i < particles; ++i)
     for (auto k = b.begin(i); k < b.end(i); ++k) {
       const auto s = static_cast<std::size_t>(k);
       live[s] = 1;
       ++live_count;
-      wrong_owner += b.owner[s] != static_cast<std::int32_t>(i);
-      const auto j = b.neighbor[s];
-      bad_neighbour +=
-          j < 0 || static_cast<std::size_t>(j) >= particles || static_cast<std::size_t>(j) == i;
-      for (const auto other : seen) repeated_neighbour += other == j;
-      seen.push_back(j);
-    }
-  }
-  EXPECT_EQ(live_count, b.live) << what;
-  EXPECT_EQ(wrong_owner, 0u) << what;
-  EXPECT_EQ(bad_neighbour, 0u) << what;
-  EXPECT_EQ(repeated_neighbour, 0u) << what << " (a pair bonded twice in one row)";
-  std::size_t garbage_not_marked = 0;
-  for (std::size_t s = 0; s < b.slots(); ++s)
-    if (!live[s]) garbage_not_marked += b.owner[s] != -1 || b.neighbor[s] != -1;
-  EXPECT_EQ(garbage_not_marked, 0u) << what;
-  // Dual rows: each entry a live bond on the row's particle; each live bond exactly once.
-  std::vector<int> times(b.slots(), 0);
-  std::size_t dead_entry = 0, wrong_row = 0;
-  for (std::size_t j = 0; j < particles; ++j)
-    for (auto e = d.begin(j); e < d.end(j); ++e) {
-      const auto bond = d.bond[static_cast<std::size_t>(e)];
-      if (bond < 0 || static_cast<std::size_t>(bond) >= b.slots() ||
-          !live[static_cast<std::size_t>(bond)]) {
-        ++dead_entry;
+      own_count += b.has_own(k) ? 1 : 0;
+      const auto j = b.other[s];
+      if (j < 0 || static_cast<std::size_t>(j) >= particles || static_cast<std::size_t>(j) == i) {
+        ++bad_other;
         continue;
       }
-      wrong_row += b.neighbor[static_cast<std::size_t>(bond)] != static_cast<std::int32_t>(j);
-      ++times[static_cast<std::size_t>(bond)];
+      unsorted += k > b.begin(i) && b.other[s - 1] >= j;
+      empty += !(b.has_own(k) || b.has_dual(k));
+      intact_without_bond +=
+          (b.own_intact(k) && !b.has_own(k)) + (b.dual_intact(k) && !b.has_dual(k));
+      const auto m = b.find(static_cast<std::size_t>(j), static_cast<std::int32_t>(i));
+      if (m < 0 || b.has_own(k) != b.has_dual(m) || b.has_dual(k) != b.has_own(m)) {
+        ++unpaired;
+        continue;
+      }
+      state_differs += (b.has_own(k) && b.own_intact(k) != b.dual_intact(m)) +
+                       (b.has_dual(k) && b.dual_intact(k) != b.own_intact(m));
+      length_differs += b.inv_length[s] != b.inv_length[static_cast<std::size_t>(m)];
+      stiffness_differs +=
+          pair_stiffness && b.stiffness[s] != b.stiffness[static_cast<std::size_t>(m)];
     }
-  EXPECT_EQ(dead_entry, 0u) << what;
-  EXPECT_EQ(wrong_row, 0u) << what;
-  std::size_t not_once = 0;
-  for (std::size_t s = 0; s < b.slots(); ++s)
-    if (live[s]) not_once += times[s] != 1;
-  EXPECT_EQ(not_once, 0u) << what << " (bonds missing from, or repeated in, a dual row)";
+  EXPECT_EQ(live_count, b.live) << what;
+  EXPECT_EQ(own_count, b.own_bonds) << what;
+  EXPECT_EQ(bad_other, 0u) << what;
+  EXPECT_EQ(unsorted, 0u) << what << " (a row out of order, or a pair twice in one row)";
+  EXPECT_EQ(empty, 0u) << what << " (an entry with no bond)";
+  EXPECT_EQ(intact_without_bond, 0u) << what;
+  EXPECT_EQ(unpaired, 0u) << what << " (an own bond without its dual side, or the reverse)";
+  EXPECT_EQ(state_differs, 0u) << what << " (the two rows of a bond disagree on its state)";
+  EXPECT_EQ(length_differs, 0u) << what;
+  EXPECT_EQ(stiffness_differs, 0u) << what << " (the two rows of a pair differ in stiffness)";
+  std::size_t garbage_not_marked = 0;
+  for (std::size_t s = 0; s < b.other.size(); ++s)
+    if (!live[s]) garbage_not_marked += b.other[s] != -1 || b.flags[s] != 0;
+  EXPECT_EQ(garbage_not_marked, 0u) << what;
 }
 
 }  // namespace dhpd::test

@@ -1,5 +1,5 @@
 // Small builders shared by the engine tests and those above them (test-only code lives here, not
-// in the engine): bonds, dual lists and rows built from scratch, random clouds, lattice stores.
+// in the engine): bond rows built from scratch, random clouds, lattice stores.
 #pragma once
 #include <cmath>
 #include <random>
@@ -15,23 +15,31 @@
 
 namespace dhpd::test {
 
-/// Bonds, dual lists and interaction rows of a store, built from scratch.
+/// The bond rows of a store built from scratch, with the constants their stiffness came from.
 struct Assembly {
-  BondList bonds;
-  DualList dual;
-  InteractionList rows;
+  BondRows bonds;
+  ForceModel model = ForceModel::DualHorizon;
+  PartialVolume rule = PartialVolume::None;
   std::vector<double> C;
   std::vector<double> s0;  ///< empty: rows that never break
+
+  BondConstants constants(const ParticleStore& p) const { return {model, rule, p, C, s0}; }
+  /// Derives every entry's stiffness and every row's break threshold again (after editing C, s0,
+  /// the flags or the factors).
+  void refresh(const ParticleStore& p, bool choose_scale = false) {
+    refresh_rows(bonds, constants(p), choose_scale);
+  }
 };
 
 inline Assembly assemble(const ParticleStore& p, ForceModel model, PartialVolume pv,
                          const Material& m, const Section& s) {
   Assembly a;
-  a.bonds = build_bonds(p, pv, {});
-  a.dual = build_dual(a.bonds);
+  a.model = model;
+  a.rule = pv;
+  a.bonds = build_bond_rows(p, pv, {});
   a.C.resize(p.size());
   for (std::size_t i = 0; i < p.size(); ++i) a.C[i] = micromodulus(m, s, p.horizon[i]);
-  a.rows = build_interactions({model, a.bonds, a.dual, p, a.C, a.s0});
+  a.refresh(p, true);
   return a;
 }
 

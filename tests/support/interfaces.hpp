@@ -28,7 +28,7 @@ struct Forces {
 inline Forces forces_under(Simulation& sim, const double eps[3][3], double margin, double size) {
   apply_strain(sim, eps);
   auto& p = sim.particles();
-  internal_force_density(sim.interactions(), p);
+  internal_force_density(sim.bonds(), p);
   Forces f;
   for (std::size_t i = 0; i < p.size(); ++i) {
     double f2 = 0.0;

@@ -206,8 +206,8 @@ TEST_F(SceneFiles, MeshedPartRunsThroughTheBuilder) {
   const auto e = sim->energies();
   EXPECT_GT(e.strain + e.kinetic, 0.0);
   EXPECT_NO_THROW(sim->check_stable(e));
-  std::printf("meshed scene: %zu particles, %zu bonds, dt %.3g s\n", p.size(), sim->bonds().size(),
-              sim->dt());
+  std::printf("meshed scene: %zu particles, %zu bonds, dt %.3g s\n", p.size(),
+              sim->bonds().bond_count(), sim->dt());
 }
 
 TEST(MeshScene, TetrahedralPartBesideALatticePartRuns) {
@@ -236,7 +236,7 @@ time: {steps: 10}
   EXPECT_NO_THROW(sim->check_stable(sim->energies()));
   EXPECT_EQ(scene::resolved_yaml(scene::parse_scene(scene::resolved_yaml(scene), "r.yaml")),
             scene::resolved_yaml(scene));
-  std::printf("3D meshed scene: %zu particles, %zu bonds\n", p.size(), sim->bonds().size());
+  std::printf("3D meshed scene: %zu particles, %zu bonds\n", p.size(), sim->bonds().bond_count());
 }
 
 TEST_F(SceneFiles, PointsFilePartIsResolvedAgainstTheSceneFolder) {

@@ -38,7 +38,7 @@ TEST(Inclusions, BondsOwnedByInclusionParticlesUseTheInclusionMaterial) {
   auto sim = build_simulation(s);
   const auto& p = sim->particles();
   const auto& b = sim->bonds();
-  const auto& rows = sim->interactions();
+  const auto rule = sim->setup().partial_volume;
   std::size_t steel = 0, steel_owned = 0, mixed = 0, expected = 0;
   for (std::size_t i = 0; i < p.size(); ++i) {
     const geometry::Vec3 x{p.reference_position[0][i], p.reference_position[1][i], 0};
@@ -51,19 +51,18 @@ TEST(Inclusions, BondsOwnedByInclusionParticlesUseTheInclusionMaterial) {
     const double C = micromodulus(own, sim->setup().section, p.horizon[i]);
     EXPECT_DOUBLE_EQ(sim->micromodulus()[i], C);
     for (auto k = b.begin(i); k < b.end(i); ++k) {
-      const auto j = static_cast<std::size_t>(b.neighbor[k]);
-      const auto in_i = rows.find(i, static_cast<std::int32_t>(j));
-      const auto in_j = rows.find(j, static_cast<std::int32_t>(i));
-      ASSERT_GE(in_i, 0);
+      const auto j = static_cast<std::size_t>(b.other[k]);
+      const auto in_j = b.find(j, static_cast<std::int32_t>(i));
       ASSERT_GE(in_j, 0);
-      // The entry of j in row i sums this bond (i's material) and the reverse one (j's).
-      const auto reverse = rows.own_bond[in_j];
-      ASSERT_GE(reverse, 0);
+      // The entry of j in row i sums this bond (i's material) and the reverse one (j's), and row
+      // j's entry holds the same stiffness bits (single precision, docs/theory.md §18).
+      ASSERT_TRUE(b.has_own(k) && b.has_dual(k));
       const auto& theirs = sim->setup().materials[static_cast<std::size_t>(p.material[j])];
       const double C_j = micromodulus(theirs, sim->setup().section, p.horizon[j]);
-      const double both = C * b.weight[k] + C_j * b.weight[reverse];
-      EXPECT_DOUBLE_EQ(rows.coefficient[in_i], both * p.volume[j]);
-      EXPECT_DOUBLE_EQ(rows.coefficient[in_j], both * p.volume[i]);
+      const double L = b.length(k);
+      const double both = C * bond_weight(p, rule, i, j, L) + C_j * bond_weight(p, rule, j, i, L);
+      EXPECT_NEAR(static_cast<double>(b.stiffness[k]) * b.stiffness_scale, both, 6e-8 * both);
+      EXPECT_EQ(b.stiffness[k], b.stiffness[in_j]);
       steel_owned += p.material[i] == 1;
       mixed += p.material[i] != p.material[j];
     }

@@ -128,13 +128,13 @@ DhpdTimes time_dhpd(const BenchOptions& o, const SimulationSetup& elastic_setup,
 void print_memory(std::ostream& out, const Simulation& sim) {
   const auto m = sim.memory_use();
   const double n = static_cast<double>(sim.particles().size());
-  const double bonds = static_cast<double>(sim.bonds().size());
+  const double bonds = static_cast<double>(sim.bonds().bond_count());
   fmt::print(out,
-             "dhpd memory: {:.0f} B per particle allocated ({:.1f} B per directed bond): bonds "
-             "{:.0f}, interaction rows {:.0f}, dual lists {:.0f}, particle fields {:.0f}, other "
-             "{:.0f} B per particle; peak RSS of this process {:.0f} MB\n",
-             m.total() / n, m.total() / bonds, m.bonds / n, m.rows / n, m.dual / n, m.particles / n,
-             m.other / n, run::peak_memory_mb());
+             "dhpd memory: {:.0f} B per particle allocated ({:.1f} B per directed bond): bond rows "
+             "{:.0f}, particle fields {:.0f}, other {:.0f} B per particle; peak RSS of this "
+             "process {:.0f} MB\n",
+             m.total() / n, m.total() / bonds, m.bonds / n, m.particles / n, m.other / n,
+             run::peak_memory_mb());
 }
 
 void compare_lammps(const BenchOptions& o, const Plate& plate, double bonds, double particles,
@@ -186,7 +186,7 @@ void run_bench(const BenchOptions& o, std::ostream& out) {
   // The counts and the memory line come from one body, freed before the timed ones are built.
   auto probe = std::make_unique<Simulation>(fracture_setup);
   const auto n = static_cast<double>(probe->particles().size());
-  const auto bonds = static_cast<double>(probe->bonds().size());
+  const auto bonds = static_cast<double>(probe->bonds().bond_count());
   if (on_plate)
     fmt::print(out, "dhpd bench: Kalthoff-Winkler plate {} x {} x {} sites, dx = {} mm, ", plate.nx,
                plate.ny, plate.nz, plate.dx * 1e3);

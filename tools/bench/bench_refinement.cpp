@@ -55,7 +55,7 @@ BodyResult time_body(int nx, int ny, int events) {
   sim.step();
   BodyResult r;
   r.particles = sim.particles().size();
-  r.bonds = sim.bonds().size();
+  r.bonds = sim.bonds().bond_count();
   const double cx = 0.5 * nx * kSpacing, cy = 0.5 * ny * kSpacing;
   std::vector<double> seconds;
   refine::EventSearch search;

@@ -187,9 +187,10 @@ void write_summary(const std::string& path, const Summary& s) {
   j["peak_memory_mb"] = s.peak_memory_mb;
   const auto& a = s.allocated;
   const double n = static_cast<double>(std::max<std::int64_t>(s.particles_end, 1));
-  j["allocated_bytes"] = {{"total", a.total}, {"particle_fields", a.particles},
-                          {"bonds", a.bonds}, {"dual_lists", a.dual},
-                          {"rows", a.rows},   {"other", a.other}};
+  j["allocated_bytes"] = {{"total", a.total},
+                          {"particle_fields", a.particles},
+                          {"bond_rows", a.bonds},
+                          {"other", a.other}};
   j["bytes_per_particle"] = static_cast<double>(a.total) / n;
   j["bytes_per_directed_bond"] =
       static_cast<double>(a.total) / static_cast<double>(std::max<std::int64_t>(s.bonds, 1));

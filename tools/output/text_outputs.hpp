@@ -103,7 +103,7 @@ struct Summary {
   double peak_memory_mb = 0;  ///< this process's own peak resident memory (VmHWM)
   /// The simulation's arrays at the end (capacities): total and by part, in bytes.
   struct Allocated {
-    std::int64_t total = 0, particles = 0, bonds = 0, dual = 0, rows = 0, other = 0;
+    std::int64_t total = 0, particles = 0, bonds = 0, other = 0;
   } allocated;
   std::vector<std::string> warnings;  ///< legal but probably unintended settings (log lines too)
   std::vector<std::string> active_effects;

@@ -53,16 +53,16 @@ void check_scene(const scene::Scene& s, std::ostream& printed, bool build,
   out << scene::derived_yaml(s, *sim);
   const auto m = sim->memory_use();
   const double n = static_cast<double>(sim->particles().size());
-  const double bonds = std::max(1.0, static_cast<double>(sim->bonds().size()));
+  const double bonds = std::max(1.0, static_cast<double>(sim->bonds().bond_count()));
   out << fmt::format(
-      "allocated: {{bytes: {}, per_particle: {:.0f}, per_directed_bond: {:.1f}, bonds: {}, "
-      "rows: {}, dual_lists: {}, particle_fields: {}, other: {}}}\n",
-      m.total(), m.total() / n, m.total() / bonds, m.bonds, m.rows, m.dual, m.particles, m.other);
+      "allocated: {{bytes: {}, per_particle: {:.0f}, per_directed_bond: {:.1f}, bond_rows: {}, "
+      "particle_fields: {}, other: {}}}\n",
+      m.total(), m.total() / n, m.total() / bonds, m.bonds, m.particles, m.other);
   // The run's stable step (time.stable_step, docs/theory.md §9) beside both estimates.
-  const double bound = critical_time_step(sim->interactions(), sim->particles());
+  const double bound = critical_time_step(sim->bonds(), sim->particles());
   const bool tight = s.time.stable_step == StableStepEstimate::Lanczos;
   const double lanczos =
-      tight ? sim->critical_dt() : lanczos_stable_step(sim->interactions(), sim->particles()).dt;
+      tight ? sim->critical_dt() : lanczos_stable_step(sim->bonds(), sim->particles()).dt;
   out << fmt::format(
       "stable_step: {{run: {:.6g}, estimate: {}, bound: {:.6g}, lanczos: {:.6g}, ratio: {:.3f}}}\n",
       sim->critical_dt(), tight ? "lanczos" : "bound", bound, lanczos, lanczos / bound);

@@ -27,14 +27,16 @@ std::vector<io::MaterialCount> material_counts(const scene::Scene& s, const Simu
   std::vector<io::MaterialCount> counts;
   for (const auto& m : s.materials) counts.push_back({m.name});
   const ParticleStore& p = sim.particles();
-  const BondList& b = sim.bonds();
+  const BondRows& b = sim.bonds();
   for (std::size_t i = 0; i < p.size(); ++i) {
     io::MaterialCount& c = counts.at(static_cast<std::size_t>(p.material[i]));
-    std::int64_t broken = 0;
-    for (auto k = b.begin(i); k < b.end(i); ++k)
-      broken += b.intact[static_cast<std::size_t>(k)] ? 0 : 1;
+    std::int64_t broken = 0, own = 0;
+    for_each_own_bond(b, i, [&](std::int64_t k, std::size_t) {
+      broken += b.own_intact(k) ? 0 : 1;
+      ++own;
+    });
     c.particles += 1;
-    c.bonds += b.end(i) - b.begin(i);
+    c.bonds += own;
     c.broken_bonds += broken;
     c.damaged_particles += broken > 0 ? 1 : 0;
   }
@@ -103,8 +105,8 @@ void log_start(RunLog& log, const scene::Scene& s, const Simulation& sim, std::i
   log.line(fmt::format("dhpd: scene '{}' ({}), {}D, model {}, partial volume {}", s.name, s.file,
                        s.dimension, to_string(s.model), to_string(s.partial_volume)));
   log.line(fmt::format(
-      "dhpd: {} particles, {} bonds, {} interactions; dt = {:.4g} s (stable {:.4g} s), {} steps{}",
-      sim.particles().size(), sim.bonds().size(), sim.interactions().size(), sim.dt(),
+      "dhpd: {} particles, {} bonds in {} row entries; dt = {:.4g} s (stable {:.4g} s), {} steps{}",
+      sim.particles().size(), sim.bonds().bond_count(), sim.bonds().live, sim.dt(),
       sim.critical_dt(), steps, s.refinement ? " at the start (refinement shortens dt)" : ""));
   log.line(fmt::format("dhpd: active effects: elasticity{}{}; threads {}; output in {}",
                        s.effects.fracture ? ", fracture" : "", s.refinement ? ", refinement" : "",

@@ -37,7 +37,7 @@ inline io::HistoryRow history_row(const Simulation& sim, const Energies& e) {
   r.time = sim.time();
   r.dt = sim.dt();
   r.particles = static_cast<std::int64_t>(sim.particles().size());
-  r.bonds = static_cast<std::int64_t>(sim.bonds().size());
+  r.bonds = static_cast<std::int64_t>(sim.bonds().bond_count());
   r.broken_bonds = sim.broken_bonds();
   r.kinetic_energy = e.kinetic;
   r.strain_energy = e.strain;

@@ -55,8 +55,7 @@ io::Summary make_summary(const scene::Scene& s, const Simulation& sim, double wa
   sum.peak_memory_mb = run::peak_memory_mb();
   const auto m = sim.memory_use();
   sum.allocated = {static_cast<std::int64_t>(m.total()), static_cast<std::int64_t>(m.particles),
-                   static_cast<std::int64_t>(m.bonds),   static_cast<std::int64_t>(m.dual),
-                   static_cast<std::int64_t>(m.rows),    static_cast<std::int64_t>(m.other)};
+                   static_cast<std::int64_t>(m.bonds), static_cast<std::int64_t>(m.other)};
   sum.scene_name = s.name;
   sum.scene_file = s.file;
   sum.wall_seconds = wall;
@@ -66,7 +65,7 @@ io::Summary make_summary(const scene::Scene& s, const Simulation& sim, double wa
   sum.critical_dt = sim.critical_dt();
   sum.particles_start = particles_start;
   sum.particles_end = static_cast<std::int64_t>(sim.particles().size());
-  sum.bonds = static_cast<std::int64_t>(sim.bonds().size());
+  sum.bonds = static_cast<std::int64_t>(sim.bonds().bond_count());
   sum.broken_bonds = sim.broken_bonds();
   const double force_s = std::max(sim.timers().seconds(Phase::Forces), 1e-12);
   sum.bond_updates_per_second = static_cast<double>(sim.bond_updates()) / force_s;
@@ -274,8 +273,8 @@ refine::Refiner::EventCheck event_check(run::RunLog& log, double budget, bool gi
   return [&log, budget, given](const Simulation& sim, std::size_t parents) {
     const int dim = sim.particles().dim();
     const double split = std::pow(2.0, dim), n = static_cast<double>(parents);
-    const double per_particle_bonds =
-        static_cast<double>(sim.bonds().size()) / std::max<double>(1.0, sim.particles().size());
+    const double per_particle_bonds = static_cast<double>(sim.bonds().bond_count()) /
+                                      std::max<double>(1.0, sim.particles().size());
     const auto per = state_bytes(sim.setup().model);
     // What the process holds now (program, libraries, state, its last good copy), or at least
     // the state twice.

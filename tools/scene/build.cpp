@@ -219,7 +219,7 @@ void check_lonely(const Scene& s, const Simulation& sim) {
   std::unique_ptr<NeighborSearch> search;  // built only when a particle has no bond
   std::vector<std::int32_t> found;
   for (std::size_t i = 0; i < p.size(); ++i) {
-    if (sim.bonds().rows.count[i] > 0) continue;
+    if (sim.bonds().own_count(i) > 0) continue;
     if (!search) search = std::make_unique<NeighborSearch>(p.reference_position, p.dim());
     if (has_neighbour_within_horizon(p, *search, i, found)) continue;
     const auto part = sim.setup().points.part[static_cast<std::size_t>(p.id[i])];
@@ -313,8 +313,8 @@ std::string derived_yaml(const Scene& s, const Simulation& sim) {
   YAML::Emitter out;
   out << YAML::BeginMap << YAML::Key << "derived" << YAML::Value << YAML::BeginMap;
   out << YAML::Key << "particles" << YAML::Value << sim.particles().size();
-  out << YAML::Key << "bonds" << YAML::Value << sim.bonds().size();
-  out << YAML::Key << "interactions" << YAML::Value << sim.interactions().size();
+  out << YAML::Key << "bonds" << YAML::Value << sim.bonds().bond_count();
+  out << YAML::Key << "row_entries" << YAML::Value << sim.bonds().live;
   out << YAML::Key << "poisson_ratio" << YAML::Value
       << num(implied_poisson_ratio(sim.setup().section));
   emit_material_table(out, s, sim);
