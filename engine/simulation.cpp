@@ -115,9 +115,9 @@ void Simulation::compute_forces(bool with_fracture, std::vector<double>* row_ene
   {
     auto t = timers_.scope(Phase::Forces);
     if (with_fracture)
-      broken_ += force_and_break(bonds_, p_, bond_constants(), row_energy);
+      broken_ += force_and_break(bonds_, p_, bond_constants(), row_energy, &kernel_points_);
     else
-      internal_force_density(bonds_, p_, nullptr, row_energy);
+      internal_force_density(bonds_, p_, nullptr, row_energy, &kernel_points_);
   }
   auto t = timers_.scope(Phase::Loads);
   for (std::size_t k = 0; k < loads_.loaded.size(); ++k)
@@ -278,7 +278,8 @@ Simulation::MemoryUse Simulation::memory_use() const {
   MemoryUse m;
   m.particles = p_.bytes();
   m.bonds = bonds_.bytes();
-  for (const auto* v : {&C_, &s0_, &particle_dt_, &kinetic_blocks_, &fused_energy_.rows})
+  for (const auto* v :
+       {&C_, &s0_, &particle_dt_, &kinetic_blocks_, &fused_energy_.rows, &kernel_points_})
     m.other += v->capacity() * sizeof(double);
   m.other += touched_.capacity();
   return m;

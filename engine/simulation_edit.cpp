@@ -73,7 +73,7 @@ EditOutcome Simulation::commit_edit(const DiscretisationChange& change,
   dt_ = keep_fixed ? *setup_.fixed_dt : setup_.safety * critical_dt_;
   inherit_loads(loads_, change.successor, change.predecessor);
   enforce_prescribed_velocity();
-  internal_force_density(bonds_, p_, &dirty);
+  internal_force_density(bonds_, p_, &dirty, nullptr, &kernel_points_);
   touched_.resize(p_.size(), 0);
   for (const auto i : dirty) touched_[static_cast<std::size_t>(i)] = 1;
   for (std::size_t k = 0; k < loads_.loaded.size(); ++k)

@@ -42,11 +42,16 @@ void damage_of(const BondRows& b, ParticleStore& p, PartialVolume rule, std::siz
 /// With Energy, row i's Σ_k c_k s_k² |ξ_k| goes to energy[i].
 template <int Dim, bool Fracture, bool Energy>
 std::int64_t force_rows(const BondRows& rows, const kernel::Breaking& w, ParticleStore& p,
-                        const std::vector<std::int32_t>* subset, double* energy) {
+                        const std::vector<std::int32_t>* subset, double* energy,
+                        std::vector<double>* points) {
+  std::vector<double> local;
+  auto& packed = points ? *points : local;
+  kernel::pack_points(p, packed);
   const kernel::Fields x{
       {p.position[0].data(), p.position[1].data(), p.position[2].data()},
       {p.force_density[0].data(), p.force_density[1].data(), p.force_density[2].data()},
-      energy};
+      energy,
+      packed.data()};
   const kernel::RowArrays r(rows, p);
   const auto row = kernel::row_kernel<Dim, Fracture, Energy>(kernel::best_build());
   auto force_row = [&](std::int64_t i) {
@@ -61,7 +66,7 @@ std::int64_t force_rows(const BondRows& rows, const kernel::Breaking& w, Particl
     return broken;
   }
   const auto n = static_cast<std::int64_t>(p.size());
-#pragma omp parallel for schedule(static) reduction(+ : broken) if (n >= kParallelMinParticles)
+#pragma omp parallel for schedule(dynamic, 512) reduction(+ : broken) if (n >= kParallelMinParticles)
   for (std::int64_t i = 0; i < n; ++i) broken += force_row(i);
   return broken;
 }
@@ -69,10 +74,11 @@ std::int64_t force_rows(const BondRows& rows, const kernel::Breaking& w, Particl
 /// force_rows with the energy output when `energy` is given (sized to the store first).
 template <int Dim, bool Fracture>
 std::int64_t force_rows_with(const BondRows& rows, const kernel::Breaking& w, ParticleStore& p,
-                             const std::vector<std::int32_t>* subset, std::vector<double>* energy) {
-  if (!energy) return force_rows<Dim, Fracture, false>(rows, w, p, subset, nullptr);
+                             const std::vector<std::int32_t>* subset, std::vector<double>* energy,
+                             std::vector<double>* points) {
+  if (!energy) return force_rows<Dim, Fracture, false>(rows, w, p, subset, nullptr, points);
   energy->resize(p.size());
-  return force_rows<Dim, Fracture, true>(rows, w, p, subset, energy->data());
+  return force_rows<Dim, Fracture, true>(rows, w, p, subset, energy->data(), points);
 }
 
 template <int Dim>
@@ -118,18 +124,19 @@ double strain_energy_of_row_sums(std::vector<double>& row_sums, const ParticleSt
 }
 
 void internal_force_density(const BondRows& b, ParticleStore& p,
-                            const std::vector<std::int32_t>* rows,
-                            std::vector<double>* row_energy) {
+                            const std::vector<std::int32_t>* rows, std::vector<double>* row_energy,
+                            std::vector<double>* points) {
   with_dim(p.dim(), [&](auto d) {
-    force_rows_with<d(), false>(b, kernel::Breaking{}, p, rows, row_energy);
+    force_rows_with<d(), false>(b, kernel::Breaking{}, p, rows, row_energy, points);
   });
 }
 
 std::int64_t force_and_break(BondRows& b, ParticleStore& p, const BondConstants& c,
-                             std::vector<double>* row_energy) {
+                             std::vector<double>* row_energy, std::vector<double>* points) {
   const kernel::Breaking w{&b, &c};
-  return with_dim(p.dim(),
-                  [&](auto d) { return force_rows_with<d(), true>(b, w, p, nullptr, row_energy); });
+  return with_dim(p.dim(), [&](auto d) {
+    return force_rows_with<d(), true>(b, w, p, nullptr, row_energy, points);
+  });
 }
 
 void strain_energy_density(const BondRows& b, const BondConstants& c, std::vector<double>& out) {

@@ -1,5 +1,6 @@
 // Force kernel of one bond row, plain and AVX2 (docs/theory.md §4, §18).
 #include "engine/physics/force_kernel.hpp"
+#include "engine/base/parallel.hpp"
 #include "engine/physics/bond_law.hpp"
 
 #include <cmath>
@@ -138,12 +139,26 @@ inline __m256d energy_of_entries(__m256d root_l2, __m256d c, __m256d inv) {
   return _mm256_and_pd(e, _mm256_cmp_pd(c, _mm256_setzero_pd(), _CMP_NEQ_UQ));
 }
 
-/// c = K V_other of the four entries from k (the lanes of coefficient_of).
-inline __m256d coefficients(const RowArrays& r, std::int64_t k, const std::int32_t* j) {
-  const double* V = r.volume;
+/// c = K V_other of the four entries from k (the lanes of coefficient_of), V_other in `volume`.
+inline __m256d coefficients(const RowArrays& r, std::int64_t k, __m256d volume) {
   const __m256d K =
       _mm256_mul_pd(_mm256_cvtps_pd(_mm_loadu_ps(r.stiffness + k)), _mm256_set1_pd(r.scale));
-  return _mm256_mul_pd(K, _mm256_set_pd(V[j[3]], V[j[2]], V[j[1]], V[j[0]]));
+  return _mm256_mul_pd(K, volume);
+}
+
+/// y_0, y_1, y_2 and V of the particles j[0..3] from the packed points: four 32-byte loads
+/// transposed, so out[a] holds component a of the four.
+inline void neighbours(const double* points, const std::int32_t* j, __m256d out[4]) {
+  const __m256d a0 = _mm256_loadu_pd(points + 4 * static_cast<std::int64_t>(j[0]));
+  const __m256d a1 = _mm256_loadu_pd(points + 4 * static_cast<std::int64_t>(j[1]));
+  const __m256d a2 = _mm256_loadu_pd(points + 4 * static_cast<std::int64_t>(j[2]));
+  const __m256d a3 = _mm256_loadu_pd(points + 4 * static_cast<std::int64_t>(j[3]));
+  const __m256d t0 = _mm256_unpacklo_pd(a0, a1), t1 = _mm256_unpackhi_pd(a0, a1);
+  const __m256d t2 = _mm256_unpacklo_pd(a2, a3), t3 = _mm256_unpackhi_pd(a2, a3);
+  out[0] = _mm256_permute2f128_pd(t0, t2, 0x20);
+  out[1] = _mm256_permute2f128_pd(t1, t3, 0x20);
+  out[2] = _mm256_permute2f128_pd(t0, t2, 0x31);
+  out[3] = _mm256_permute2f128_pd(t1, t3, 0x31);
 }
 
 /// Lanes of the four entries from k that still hold an intact bond (has_intact).
@@ -156,25 +171,78 @@ inline __m256d intact_lanes(const RowArrays& r, std::int64_t k) {
       _mm256_xor_si256(_mm256_cmpeq_epi64(bits, _mm256_setzero_si256()), _mm256_set1_epi64x(-1)));
 }
 
+/// The last `rest` (1–3) entries of row i from k, in lanes 0..rest−1 (the lanes plain_entries
+/// gives them, with the same operations); the other lanes point at i itself and add −0.0, the
+/// identity of IEEE addition, so the lanes' sums keep their bits.
+template <int Dim, bool Fracture, bool Energy>
+std::int64_t tail_avx2(std::int64_t i, std::int64_t k, int rest, const __m256d yi[Dim],
+                       const Fields& x, const RowArrays& r, const Breaking& w, __m256d acc[Dim],
+                       __m256d& energy) {
+  const auto self = static_cast<std::int32_t>(i);
+  std::int32_t j[4] = {self, self, self, self};
+  alignas(32) double inv_lanes[4] = {1.0, 1.0, 1.0, 1.0};
+  for (int t = 0; t < rest; ++t) j[t] = r.other[k + t], inv_lanes[t] = r.inv_length[k + t];
+  const __m256d valid = _mm256_castsi256_pd(
+      _mm256_cmpgt_epi64(_mm256_set1_epi64x(rest), _mm256_set_epi64x(3, 2, 1, 0)));
+  const __m256d one = _mm256_set1_pd(1.0), minus_zero = _mm256_set1_pd(-0.0);
+  __m256d dx[Dim], l2 = _mm256_setzero_pd();
+  for (int a = 0; a < Dim; ++a) {
+    const double* ya = x.y[a];
+    dx[a] = _mm256_sub_pd(_mm256_set_pd(ya[j[3]], ya[j[2]], ya[j[1]], ya[j[0]]), yi[a]);
+    l2 = _mm256_add_pd(l2, _mm256_mul_pd(dx[a], dx[a]));
+  }
+  l2 = _mm256_blendv_pd(one, l2, valid);  // no 1/0 in the unused lanes
+  const __m256d inv = _mm256_load_pd(inv_lanes);
+  std::int64_t broken = 0;
+  if constexpr (Fracture) {
+    alignas(32) double ratios[4];
+    _mm256_store_pd(ratios, _mm256_mul_pd(_mm256_mul_pd(l2, inv), inv));
+    int hit = 0;
+    for (int t = 0; t < rest; ++t)
+      if (ratios[t] >= r.break_ratio2[i] && has_intact(r.flags[k + t])) hit |= 1 << t;
+    if (hit) [[unlikely]]
+      broken = break_block(i, k, hit, ratios, w);
+  }
+  alignas(16) float K[4] = {0.0f, 0.0f, 0.0f, 0.0f};  // read after the breaks
+  for (int t = 0; t < rest; ++t) K[t] = r.stiffness[k + t];
+  const double* V = r.volume;
+  const __m256d c =
+      _mm256_mul_pd(_mm256_mul_pd(_mm256_cvtps_pd(_mm_load_ps(K)), _mm256_set1_pd(r.scale)),
+                    _mm256_set_pd(V[j[3]], V[j[2]], V[j[1]], V[j[0]]));
+  const __m256d root = _mm256_sqrt_pd(l2), q = _mm256_div_pd(one, root);
+  const __m256d s = _mm256_mul_pd(c, _mm256_sub_pd(inv, q));
+  for (int a = 0; a < Dim; ++a)
+    acc[a] = _mm256_add_pd(acc[a], _mm256_blendv_pd(minus_zero, _mm256_mul_pd(s, dx[a]), valid));
+  if constexpr (Energy)
+    energy =
+        _mm256_add_pd(energy, _mm256_blendv_pd(minus_zero, energy_of_entries(root, c, inv), valid));
+  return broken;
+}
+
 template <int Dim, bool Fracture, bool Energy>
 std::int64_t row_avx2(std::int64_t i, const Fields& x, const RowArrays& r, const Breaking& w) {
+  // Everything the loop reads, in locals: nothing it calls can change them, and no address of an
+  // accumulator escapes the loop, so they stay in registers.
+  const double* points = x.points;
+  const std::int32_t* other = r.other;
+  const double* inv_length = r.inv_length;
+  const float* stiffness = r.stiffness;
+  const __m256d scale = _mm256_set1_pd(r.scale), one = _mm256_set1_pd(1.0);
+  const __m256d limit = _mm256_set1_pd(r.break_ratio2[i]);
   __m256d yi[Dim], acc[Dim], energy = _mm256_setzero_pd();
   for (int a = 0; a < Dim; ++a) yi[a] = _mm256_set1_pd(x.y[a][i]), acc[a] = _mm256_setzero_pd();
-  const __m256d one = _mm256_set1_pd(1.0);
   std::int64_t broken = 0;
   const std::int64_t begin = r.start[i], end = begin + r.count[i];
   const std::int64_t blocks_end = begin + ((end - begin) & ~std::int64_t{3});
-  const __m256d limit = _mm256_set1_pd(r.break_ratio2[i]);
   for (std::int64_t k = begin; k < blocks_end; k += 4) {
-    const std::int32_t* j = r.other + k;
+    __m256d y[4];  // the four neighbours' y_0, y_1, y_2 and V, one register each
+    neighbours(points, other + k, y);
     __m256d dx[Dim], l2 = _mm256_setzero_pd();
     for (int a = 0; a < Dim; ++a) {
-      // Four scalar loads: faster than vgatherdpd on the AMD cores measured.
-      const double* ya = x.y[a];
-      dx[a] = _mm256_sub_pd(_mm256_set_pd(ya[j[3]], ya[j[2]], ya[j[1]], ya[j[0]]), yi[a]);
+      dx[a] = _mm256_sub_pd(y[a], yi[a]);
       l2 = _mm256_add_pd(l2, _mm256_mul_pd(dx[a], dx[a]));
     }
-    const __m256d inv = _mm256_loadu_pd(r.inv_length + k);
+    const __m256d inv = _mm256_loadu_pd(inv_length + k);
     if constexpr (Fracture) {
       const __m256d ratio2 = _mm256_mul_pd(_mm256_mul_pd(l2, inv), inv);
       const __m256d over = _mm256_cmp_pd(ratio2, limit, _CMP_GE_OQ);
@@ -188,15 +256,21 @@ std::int64_t row_avx2(std::int64_t i, const Fields& x, const RowArrays& r, const
       }
     }
     const __m256d root = _mm256_sqrt_pd(l2), q = _mm256_div_pd(one, root);
-    const __m256d c = coefficients(r, k, j);
+    // c = (K scale) V: read after the break test, which may have changed K (coefficient_of).
+    const __m256d c =
+        _mm256_mul_pd(_mm256_mul_pd(_mm256_cvtps_pd(_mm_loadu_ps(stiffness + k)), scale), y[3]);
     const __m256d s = _mm256_mul_pd(c, _mm256_sub_pd(inv, q));
     for (int a = 0; a < Dim; ++a) acc[a] = _mm256_add_pd(acc[a], _mm256_mul_pd(s, dx[a]));
     if constexpr (Energy) energy = _mm256_add_pd(energy, energy_of_entries(root, c, inv));
   }
+  __m256d sums[Dim], energy_sums = energy;
+  for (int a = 0; a < Dim; ++a) sums[a] = acc[a];
+  if (end > blocks_end)
+    broken += tail_avx2<Dim, Fracture, Energy>(i, blocks_end, static_cast<int>(end - blocks_end),
+                                               yi, x, r, w, sums, energy_sums);
   alignas(32) double lanes[Dim][4], energy_lanes[4];
-  for (int a = 0; a < Dim; ++a) _mm256_store_pd(lanes[a], acc[a]);
-  _mm256_store_pd(energy_lanes, energy);
-  broken += plain_entries<Dim, Fracture, Energy>(i, blocks_end, x, r, w, lanes, energy_lanes);
+  for (int a = 0; a < Dim; ++a) _mm256_store_pd(lanes[a], sums[a]);
+  _mm256_store_pd(energy_lanes, energy_sums);
   write_force<Dim, Energy>(i, x, lanes, energy_lanes);
   return broken;
 }
@@ -216,7 +290,9 @@ double energy_avx2(std::int64_t i, const double* const y[3], const RowArrays& r)
       const __m256d d = _mm256_sub_pd(_mm256_set_pd(ya[j[3]], ya[j[2]], ya[j[1]], ya[j[0]]), yi[a]);
       l2 = _mm256_add_pd(l2, _mm256_mul_pd(d, d));
     }
-    const __m256d c = coefficients(r, k, j), inv = _mm256_loadu_pd(r.inv_length + k);
+    const double* V = r.volume;
+    const __m256d c = coefficients(r, k, _mm256_set_pd(V[j[3]], V[j[2]], V[j[1]], V[j[0]]));
+    const __m256d inv = _mm256_loadu_pd(r.inv_length + k);
     acc = _mm256_add_pd(acc, energy_of_entries(_mm256_sqrt_pd(l2), c, inv));
   }
   alignas(32) double lane[4];
@@ -227,6 +303,17 @@ double energy_avx2(std::int64_t i, const double* const y[3], const RowArrays& r)
 #endif
 
 }  // namespace
+
+void pack_points(const ParticleStore& p, std::vector<double>& out) {
+  const auto n = static_cast<std::int64_t>(p.size());
+  out.resize(4 * p.size());
+  double* o = out.data();
+#pragma omp parallel for schedule(static) if (n >= kParallelMinParticles)
+  for (std::int64_t i = 0; i < n; ++i) {
+    for (int a = 0; a < 3; ++a) o[4 * i + a] = a < p.dim() ? p.position[a][i] : 0.0;
+    o[4 * i + 3] = p.volume[i];
+  }
+}
 
 bool avx2_available() {
 #ifdef DHPD_HAS_AVX2_BUILD

@@ -5,6 +5,7 @@
 // fused multiply-add, so they give the same bits on every machine and for every thread count.
 #pragma once
 #include <cstdint>
+#include <vector>
 
 #include "engine/physics/interactions.hpp"
 
@@ -42,12 +43,18 @@ struct Breaking {
 };
 
 /// Positions read and force densities written (the first Dim axes); the kernels with Energy also
-/// write each row's Σ_k c_k s_k² |ξ_k| (the sum RowEnergy returns) to energy[i].
+/// write each row's Σ_k c_k s_k² |ξ_k| (the sum RowEnergy returns) to energy[i]. `points` holds
+/// y_0, y_1, y_2, V of each particle side by side (pack_points): the AVX2 build loads a
+/// neighbour's position and volume with one 32-byte load, four neighbours transposed in registers.
 struct Fields {
   const double* y[3];
   double* f[3];
   double* energy = nullptr;
+  const double* points = nullptr;
 };
+
+/// Writes y_0, y_1, y_2, V of every particle to `out` (4 per particle; unused axes 0), in parallel.
+void pack_points(const ParticleStore& p, std::vector<double>& out);
 
 /// Force density of row i; with Fracture, entries with an intact bond whose squared stretch ratio
 /// (|y|/|ξ|)² reached the row's break_ratio2 go through break_entry first, on that ratio; with

@@ -77,13 +77,17 @@ class HorizonTests {
     for (auto k = b_.begin(i); k < b_.end(i); ++k) f(b_.other[k]);
   }
 
-  /// A bond (own or dual) to a particle whose horizon differs by kHorizonJumpRatio or more.
-  bool at_jump(std::size_t i) const {
+  /// A bond (own or dual) to a particle whose horizon differs by kHorizonJumpRatio or more
+  /// (cached: constrained() asks it of every partner of every particle).
+  bool at_jump(std::size_t i) {
+    if (jump_.empty()) jump_.assign(p_.size(), -1);
+    if (jump_[i] >= 0) return jump_[i] == 1;
     bool jump = false;
     each_partner(i, [&](std::int32_t j) {
       const double a = p_.horizon[i], c = p_.horizon[static_cast<std::size_t>(j)];
       jump = jump || std::max(a, c) >= kHorizonJumpRatio * std::min(a, c);
     });
+    jump_[i] = jump ? 1 : 0;
     return jump;
   }
 
@@ -105,6 +109,7 @@ class HorizonTests {
   const ParticleStore& p_;
   PartialVolume rule_;
   std::unordered_map<std::int32_t, bool> complete_;
+  std::vector<std::int8_t> jump_;  ///< per particle: −1 not asked yet, else at_jump's answer
 };
 
 /// One unknown: bond b between constrained particles li (owner) and lj, a_b = (V_j N, −V_i N).

@@ -155,9 +155,13 @@ TEST_P(ForceKernel, PlainAndAvx2BuildsGiveTheSameBits) {
     for (const auto build : {kernel::Build::Plain, kernel::Build::Avx2}) {
       auto s = stretched_cloud(dim, 9);
       const auto in = s.constants();
+      std::vector<double> points;
+      kernel::pack_points(s.p, points);
       const kernel::Fields x{
           {s.p.position[0].data(), s.p.position[1].data(), s.p.position[2].data()},
-          {s.p.force_density[0].data(), s.p.force_density[1].data(), s.p.force_density[2].data()}};
+          {s.p.force_density[0].data(), s.p.force_density[1].data(), s.p.force_density[2].data()},
+          nullptr,
+          points.data()};
       const kernel::RowArrays r(s.a.bonds, s.p);
       const kernel::Breaking w{&s.a.bonds, &in};
       const auto row = with_dim(dim, [&](auto d) {
@@ -210,11 +214,14 @@ TEST_P(ForceKernel, FusedRowEnergyEqualsTheEnergyAfterThePass) {
     ASSERT_GT(force_and_break(plain.a.bonds, plain.p, plain.constants()), 0);
     const auto in = fused.constants();
     std::vector<double> energy(fused.p.size(), -1.0);
+    std::vector<double> points;
+    kernel::pack_points(fused.p, points);
     const kernel::Fields x{
         {fused.p.position[0].data(), fused.p.position[1].data(), fused.p.position[2].data()},
         {fused.p.force_density[0].data(), fused.p.force_density[1].data(),
          fused.p.force_density[2].data()},
-        energy.data()};
+        energy.data(),
+        points.data()};
     const kernel::RowArrays r(fused.a.bonds, fused.p);
     const kernel::Breaking w{&fused.a.bonds, &in};
     const auto row =
