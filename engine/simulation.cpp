@@ -162,12 +162,24 @@ void Simulation::step(StepExtras extras) {
       for (int a = 0; a < dim; ++a)
         body_work += loads_.body_force[k][a] * p_.velocity[a][i] * dt_ * p_.volume[i];
     }
+    // The new positions go to the kernel's packed points as well (kernel::pack_points, the same
+    // values), which spares the force pass its own pass over the particles.
+    auto& points = kernel_points_.xyzv;
+    points.resize(4 * p_.size());
 #pragma omp parallel for schedule(static) if (n >= kParallelMinParticles)
-    for (std::int64_t i = 0; i < n; ++i)
-      for (int a = 0; a < dim; ++a) {
+    for (std::int64_t i = 0; i < n; ++i) {
+      for (int a = 0; a < 3; ++a) {
+        if (a >= dim) {
+          points[4 * i + a] = 0.0;
+          continue;
+        }
         p_.displacement[a][i] += dt_ * p_.velocity[a][i];
         p_.position[a][i] = p_.reference_position[a][i] + p_.displacement[a][i];
+        points[4 * i + a] = p_.position[a][i];
       }
+      points[4 * i + 3] = p_.volume[i];
+    }
+    kernel_points_.fresh = true;
   }
   compute_forces(setup_.effects.fracture, extras.strain_energy ? &fused_energy_.rows : nullptr);
   {
@@ -205,41 +217,66 @@ void Simulation::step(StepExtras extras) {
   }
 }
 
+namespace {
+/// Momentum, kinetic energy and the Verlet correction summed over fixed blocks of particles (one
+/// parallel pass; blocks added in order, so the same bits for any thread count).
+struct ParticleSums {
+  double momentum[3] = {0, 0, 0};
+  double kinetic = 0.0;
+  double correction = 0.0;  ///< (dt²/8) Σ V |f|²/ρ over components without prescribed velocity
+};
+
+constexpr std::int64_t kSumBlock = 1024;
+
+ParticleSums particle_sums(const ParticleStore& p, const ResolvedLoads& loads, double dt) {
+  const auto n = static_cast<std::int64_t>(p.size());
+  std::vector<std::uint8_t> fixed(p.size(), 0);  // bit a: axis a has a prescribed velocity
+  for (std::size_t k = 0; k < loads.prescribed.size(); ++k)
+    for (int a = 0; a < 3; ++a)
+      if (loads.mask[k][a]) fixed[static_cast<std::size_t>(loads.prescribed[k])] |= 1u << a;
+  const std::int64_t blocks = (n + kSumBlock - 1) / kSumBlock;
+  std::vector<ParticleSums> part(static_cast<std::size_t>(blocks));
+  const int dim = p.dim();
+#pragma omp parallel for schedule(static) if (n >= kParallelMinParticles)
+  for (std::int64_t b = 0; b < blocks; ++b) {
+    ParticleSums s;
+    for (std::int64_t i = b * kSumBlock; i < std::min(n, (b + 1) * kSumBlock); ++i) {
+      const double m = p.density[i] * p.volume[i];
+      double v2 = 0.0, f2 = 0.0;
+      for (int a = 0; a < 3; ++a) s.momentum[a] += m * p.velocity[a][i];
+      for (int a = 0; a < dim; ++a) {
+        v2 += p.velocity[a][i] * p.velocity[a][i];
+        if (!(fixed[i] >> a & 1u)) f2 += p.force_density[a][i] * p.force_density[a][i];
+      }
+      s.kinetic += 0.5 * m * v2;
+      s.correction += 0.125 * dt * dt * p.volume[i] * f2 / p.density[i];
+    }
+    part[static_cast<std::size_t>(b)] = s;
+  }
+  ParticleSums total;
+  for (const auto& s : part) {
+    for (int a = 0; a < 3; ++a) total.momentum[a] += s.momentum[a];
+    total.kinetic += s.kinetic;
+    total.correction += s.correction;
+  }
+  return total;
+}
+}  // namespace
+
 Energies Simulation::energies() {
   auto t = timers_.scope(Phase::Diagnostics);
-  const std::size_t n = p_.size();
-  std::vector<double> kin(n);
+  const auto sums = particle_sums(p_, loads_, dt_);
   Energies e;
-  for (int a = 0; a < 3; ++a) {
-    std::vector<double> mom(n, 0.0);
-    for (std::size_t i = 0; i < n; ++i) mom[i] = p_.density[i] * p_.volume[i] * p_.velocity[a][i];
-    e.momentum[a] = ordered_sum(mom);
-  }
-  for (std::size_t i = 0; i < n; ++i) {
-    double v2 = 0.0;
-    for (int a = 0; a < p_.dim(); ++a) v2 += p_.velocity[a][i] * p_.velocity[a][i];
-    kin[i] = 0.5 * p_.density[i] * p_.volume[i] * v2;
-  }
-  e.kinetic = ordered_sum(kin);
+  for (int a = 0; a < 3; ++a) e.momentum[a] = sums.momentum[a];
+  e.kinetic = sums.kinetic;
   e.strain = strain_energy_from_step() ? fused_energy_.strain : strain_energy_total(bonds_, p_);
   e.external_work = external_work_;
-  e.verlet_correction = verlet_correction();
+  e.verlet_correction = sums.correction;
   return e;
 }
 
 double Simulation::verlet_correction() const {
-  const std::size_t n = p_.size();
-  std::vector<std::array<std::uint8_t, 3>> fixed(n, {0, 0, 0});
-  for (std::size_t k = 0; k < loads_.prescribed.size(); ++k)
-    fixed[static_cast<std::size_t>(loads_.prescribed[k])] = loads_.mask[k];
-  std::vector<double> c(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    double f2 = 0.0;
-    for (int a = 0; a < p_.dim(); ++a)
-      if (!fixed[i][a]) f2 += p_.force_density[a][i] * p_.force_density[a][i];
-    c[i] = 0.125 * dt_ * dt_ * p_.volume[i] * f2 / p_.density[i];
-  }
-  return ordered_sum(c);
+  return particle_sums(p_, loads_, dt_).correction;
 }
 
 void Simulation::check_stable(const Energies& e) const {
@@ -279,7 +316,7 @@ Simulation::MemoryUse Simulation::memory_use() const {
   m.particles = p_.bytes();
   m.bonds = bonds_.bytes();
   for (const auto* v :
-       {&C_, &s0_, &particle_dt_, &kinetic_blocks_, &fused_energy_.rows, &kernel_points_})
+       {&C_, &s0_, &particle_dt_, &kinetic_blocks_, &fused_energy_.rows, &kernel_points_.xyzv})
     m.other += v->capacity() * sizeof(double);
   m.other += touched_.capacity();
   return m;

@@ -9,6 +9,7 @@
 #include "engine/discretization/bonds.hpp"
 #include "engine/discretization/particles.hpp"
 #include "engine/discretization/section.hpp"
+#include "engine/physics/force_kernel.hpp"
 #include "engine/physics/interactions.hpp"
 #include "engine/physics/interface_consistency.hpp"
 #include "engine/physics/loads.hpp"
@@ -235,7 +236,7 @@ class Simulation {
   bool conservative_ = true;            ///< the model conserves energy (not classical-variable)
   double blowup_factor_ = 2.0;          ///< plain energy above this × the balance is a blow-up
   std::vector<double> kinetic_blocks_;  ///< guard scratch
-  std::vector<double> kernel_points_;   ///< force kernel scratch (kernel::pack_points)
+  kernel::PackedPoints kernel_points_;  ///< force kernel scratch (kernel::pack_points)
   /// The strain energy a step's force pass computed, valid while steps_, generation_ and
   /// layout_version_ are still those it was computed at (not part of the state).
   struct FusedEnergy {

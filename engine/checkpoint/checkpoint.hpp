@@ -20,8 +20,10 @@ namespace dhpd {
 // 2: bond stiffness factors, crack tracks' initial angles and branch speeds;
 // 3: refinement's search grid and event scratch left the state, the layout version entered;
 // 4: interaction rows with one entry per neighbour pair;
-// 5: the bond rows are the only bond store (no bond list or dual lists), stiffness in float.
-constexpr std::uint32_t kCheckpointVersion = 5;
+// 5: the bond rows are the only bond store (no bond list or dual lists), stiffness in float;
+// 6: the rows are built again from the particles on loading: only each row's entry count, the
+//    entries' flags and factors (row order) and the stiffness scale are stored.
+constexpr std::uint32_t kCheckpointVersion = 6;
 
 /// The in-memory snapshot of a simulation (every array as it is, row arenas included).
 std::vector<std::byte> save_simulation(const Simulation& sim);

@@ -17,19 +17,19 @@ namespace dhpd {
 
 /// Every member of a Simulation that decides its future, in one list for writing and reading.
 struct CheckpointAccess {
-  template <class Rows, class Ar>
-  static void rows(Rows& r, Ar& ar) {
-    ar(r.start), ar(r.count), ar(r.capacity), ar(r.arena), ar(r.garbage);
-  }
-
-  /// Loads, per-particle constants, clocks, ledgers and counters: the last members of both lists.
+  /// Loads and per-particle constants: they change only when the discretisation does.
   template <class Sim, class Ar>
-  static void loads_constants_and_clocks(Sim& s, Ar& ar) {
+  static void loads_and_constants(Sim& s, Ar& ar) {
     auto& l = s.loads_;
     ar(l.prescribed), ar(l.mask), ar(l.prescribed_velocity), ar(l.loaded), ar(l.body_force);
     ar(l.condition_body_force);
     ar(s.C_), ar(s.s0_), ar(s.particle_dt_);
     ar(s.reach_), ar(s.max_horizon_), ar(s.appended_since_compaction_), ar(s.layout_version_);
+  }
+
+  /// Clocks, ledgers and counters: the last members of both lists.
+  template <class Sim, class Ar>
+  static void clocks(Sim& s, Ar& ar) {
     ar(s.time_), ar(s.dt_), ar(s.critical_dt_);
     ar(s.external_work_), ar(s.last_power_);
     ar(s.budget_.tolerance), ar(s.budget_.initial), ar(s.budget_.mapping), ar(s.budget_.scale);
@@ -37,23 +37,71 @@ struct CheckpointAccess {
     ar(s.steps_), ar(s.broken_), ar(s.bond_updates_), ar(s.generation_), ar(s.next_id_);
   }
 
-  template <class Sim, class Ar>
-  static void members(Sim& s, Ar& ar) {
-    auto& b = s.bonds_;
-    rows(b.rows, ar);
-    ar(b.other), ar(b.inv_length), ar(b.flags), ar(b.factor), ar(b.stiffness);
-    ar(b.stiffness_scale), ar(b.break_ratio2), ar(b.live), ar(b.own_bonds);
-    loads_constants_and_clocks(s, ar);
+  /// The bond rows as a checkpoint holds them: what cannot be derived from the particles (each
+  /// row's entry count, then the entries' flags and, where level interfaces were corrected, the
+  /// own bonds' factors, in row order, and the stiffness scale). The rows themselves (neighbours,
+  /// lengths, stiffness, break thresholds) are built again from the particles on loading: a build
+  /// from scratch gives every row the entries an incremental run gave it (test
+  /// RefinementIncremental), so the state is the same whatever the arena's layout was.
+  struct SavedRows {
+    std::vector<std::int32_t> count;
+    std::vector<std::uint8_t> flags;
+    std::vector<float> factor;
+    double stiffness_scale = 1.0;
+  };
+
+  static SavedRows saved_rows(const BondRows& b) {
+    SavedRows r;
+    r.stiffness_scale = b.stiffness_scale;
+    r.count.resize(b.particles());
+    r.flags.reserve(static_cast<std::size_t>(b.live));
+    if (!b.factor.empty()) r.factor.reserve(static_cast<std::size_t>(b.live));
+    for (std::size_t i = 0; i < b.particles(); ++i) {
+      r.count[i] = b.rows.count[i];
+      for (auto k = b.begin(i); k < b.end(i); ++k) {
+        r.flags.push_back(b.flags[k]);
+        if (!b.factor.empty()) r.factor.push_back(b.factor[k]);
+      }
+    }
+    return r;
+  }
+
+  template <class Ar>
+  static void rows_part(SavedRows& r, Ar& ar) {
+    ar(r.count), ar(r.flags), ar(r.factor), ar(r.stiffness_scale);
+  }
+
+  /// The rows built from the loaded particles, with the saved flags and factors; refuses a
+  /// checkpoint whose rows do not fit them.
+  static void restore_rows(Simulation& s, const SavedRows& r, const archive::Reader& ar) {
+    const auto& p = s.p_;
+    if (r.count.size() != p.size() || r.stiffness_scale <= 0.0)
+      ar.fail("its bond rows do not fit its particles");
+    BondRows b = build_bond_rows(p, s.setup_.partial_volume, s.setup_.cracks);
+    if (b.rows.count != r.count || r.flags.size() != b.other.size() ||
+        !(r.factor.empty() || r.factor.size() == b.other.size()))
+      ar.fail("its bond rows are not those its particles give (another scene or version?)");
+    for (std::size_t k = 0; k < r.flags.size(); ++k) {
+      const auto f = r.flags[k];
+      const bool own = b.flags[k] & kOwn, dual = b.flags[k] & kDual;
+      if ((f & kOwn) != (own ? kOwn : 0) || (f & kDual) != (dual ? kDual : 0) || f > 15)
+        ar.fail("its bond rows are not those its particles give (another scene or version?)");
+    }
+    b.flags = r.flags;
+    b.factor = r.factor;
+    b.stiffness_scale = r.stiffness_scale;
+    s.bonds_ = std::move(b);
+    refresh_rows(s.bonds_, s.bond_constants(), false);
   }
 
   /// What a time step changes between edits (the guard's copy): the bonds' intact states (the
-  /// rows' flags), loads, per-particle constants, clocks, ledgers and counters, with every
-  /// state field of the particles (save_step). The stiffness follows from the flags and is
-  /// recomputed on loading; the rest of the rows only changes in an edit.
+  /// rows' flags), clocks, ledgers and counters, with every state field of the particles
+  /// (save_step). The stiffness follows from the flags and is recomputed on loading; the rest of
+  /// the rows, the loads and the per-particle constants change only in an edit.
   template <class Sim, class Ar>
   static void step_members(Sim& s, Ar& ar) {
     ar(s.bonds_.flags);
-    loads_constants_and_clocks(s, ar);
+    clocks(s, ar);
   }
 
   /// The particle fields, or with `state_only` those of FieldGroup::State (a time step changes
@@ -138,20 +186,28 @@ struct CheckpointAccess {
   template <class Ar>
   static void save(const Simulation& s, Ar& ar) {
     save_fields(s, ar);
-    members(s, ar);
+    auto r = saved_rows(s.bonds_);
+    rows_part(r, ar);
+    loads_and_constants(s, ar);
+    clocks(s, ar);
     save_timers(s, ar);
   }
 
   static void load(Simulation& s, archive::Reader& ar) {
     load_fields(s, ar);
-    members(s, ar);
+    SavedRows r;
+    rows_part(r, ar);
+    loads_and_constants(s, ar);
+    clocks(s, ar);
+    if (!particles_fit(s)) ar.fail("its particle arrays do not fit together");
+    restore_rows(s, r, ar);
     load_timers(s, ar);
     if (ar.remaining() != 0) ar.fail("bytes left after the simulation state");
     check_consistent(s, ar);
     s.touched_.assign(s.p_.size(), 0);
     s.edit_.reset();
     s.fused_energy_ = {};
-    // Damage is kept current by the stepper; format-4 files may hold an older value.
+    // Damage follows from the flags (the stepper keeps it current between steps).
     if (s.setup_.effects.fracture) compute_damage(s.bonds_, s.p_, s.setup_.partial_volume);
   }
 

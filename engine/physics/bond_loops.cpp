@@ -43,10 +43,12 @@ void damage_of(const BondRows& b, ParticleStore& p, PartialVolume rule, std::siz
 template <int Dim, bool Fracture, bool Energy>
 std::int64_t force_rows(const BondRows& rows, const kernel::Breaking& w, ParticleStore& p,
                         const std::vector<std::int32_t>* subset, double* energy,
-                        std::vector<double>* points) {
-  std::vector<double> local;
-  auto& packed = points ? *points : local;
-  kernel::pack_points(p, packed);
+                        kernel::PackedPoints* points) {
+  kernel::PackedPoints local;
+  auto& packed_points = points ? *points : local;
+  if (!packed_points.fresh) kernel::pack_points(p, packed_points.xyzv);
+  packed_points.fresh = false;
+  const auto& packed = packed_points.xyzv;
   const kernel::Fields x{
       {p.position[0].data(), p.position[1].data(), p.position[2].data()},
       {p.force_density[0].data(), p.force_density[1].data(), p.force_density[2].data()},
@@ -75,7 +77,7 @@ std::int64_t force_rows(const BondRows& rows, const kernel::Breaking& w, Particl
 template <int Dim, bool Fracture>
 std::int64_t force_rows_with(const BondRows& rows, const kernel::Breaking& w, ParticleStore& p,
                              const std::vector<std::int32_t>* subset, std::vector<double>* energy,
-                             std::vector<double>* points) {
+                             kernel::PackedPoints* points) {
   if (!energy) return force_rows<Dim, Fracture, false>(rows, w, p, subset, nullptr, points);
   energy->resize(p.size());
   return force_rows<Dim, Fracture, true>(rows, w, p, subset, energy->data(), points);
@@ -125,14 +127,14 @@ double strain_energy_of_row_sums(std::vector<double>& row_sums, const ParticleSt
 
 void internal_force_density(const BondRows& b, ParticleStore& p,
                             const std::vector<std::int32_t>* rows, std::vector<double>* row_energy,
-                            std::vector<double>* points) {
+                            kernel::PackedPoints* points) {
   with_dim(p.dim(), [&](auto d) {
     force_rows_with<d(), false>(b, kernel::Breaking{}, p, rows, row_energy, points);
   });
 }
 
 std::int64_t force_and_break(BondRows& b, ParticleStore& p, const BondConstants& c,
-                             std::vector<double>* row_energy, std::vector<double>* points) {
+                             std::vector<double>* row_energy, kernel::PackedPoints* points) {
   const kernel::Breaking w{&b, &c};
   return with_dim(p.dim(), [&](auto d) {
     return force_rows_with<d(), true>(b, w, p, nullptr, row_energy, points);

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "engine/discretization/particles.hpp"
+#include "engine/physics/force_kernel.hpp"
 #include "engine/physics/interactions.hpp"
 
 namespace dhpd {
@@ -15,13 +16,13 @@ namespace dhpd {
 /// f_i = Σ_k K_k β_k V_k s_k n_k, gathered row by row (no atomics, thread-count independent).
 /// With `rows`, only those particles are updated. With `row_energy`, the same pass also writes
 /// each updated row's Σ_k c_k s_k² |ξ_k| there (strain_energy_of_row_sums turns it into the
-/// strain energy, the same bits as strain_energy_total of the state). `points` is scratch for the
-/// kernel's packed positions and volumes (kernel::pack_points), kept by a caller that steps often
-/// so no step allocates.
+/// strain energy, the same bits as strain_energy_total of the state). `points` is the kernel's
+/// packed positions and volumes (kernel::PackedPoints), kept by a caller that steps often so no
+/// step allocates.
 void internal_force_density(const BondRows& bonds, ParticleStore& p,
                             const std::vector<std::int32_t>* rows = nullptr,
                             std::vector<double>* row_energy = nullptr,
-                            std::vector<double>* points = nullptr);
+                            kernel::PackedPoints* points = nullptr);
 
 /// internal_force_density of every row with bond breaking fused in: each intact bond with
 /// s ≥ s0 of its owner (no_fail owners never break) is marked broken in both rows of its pair
@@ -32,7 +33,7 @@ void internal_force_density(const BondRows& bonds, ParticleStore& p,
 /// internal_force_density: the row sums after the pass's breaks.
 std::int64_t force_and_break(BondRows& bonds, ParticleStore& p, const BondConstants& c,
                              std::vector<double>* row_energy = nullptr,
-                             std::vector<double>* points = nullptr);
+                             kernel::PackedPoints* points = nullptr);
 
 /// φ_i = 1 − Σ μ β V_j / Σ β V_j over own bonds (docs/theory.md §8); written to p.damage.
 /// With `subset`, only those particles are updated.

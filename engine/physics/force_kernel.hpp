@@ -56,6 +56,14 @@ struct Fields {
 /// Writes y_0, y_1, y_2, V of every particle to `out` (4 per particle; unused axes 0), in parallel.
 void pack_points(const ParticleStore& p, std::vector<double>& out);
 
+/// Packed points kept between force passes. `fresh`: the owner wrote the current positions and
+/// volumes into `xyzv` since the last pass (a time step's integrator does); a pass packs them
+/// itself otherwise, and clears `fresh` after use, so nothing else can leave them stale.
+struct PackedPoints {
+  std::vector<double> xyzv;
+  bool fresh = false;
+};
+
 /// Force density of row i; with Fracture, entries with an intact bond whose squared stretch ratio
 /// (|y|/|ξ|)² reached the row's break_ratio2 go through break_entry first, on that ratio; with
 /// Energy, the row's energy after its break tests, the same bits as RowEnergy gives after the pass.

@@ -98,11 +98,12 @@ struct RunContext {
     if (frame) write_frame();
     if (good.step < 0 || sim.steps_done() - good.step >= LastGood::kLastGoodEvery) keep_good();
   }
-  /// The run loop's state now (what a checkpoint of the current state saves).
-  RunState run_state() {
+  /// The run loop's state now (what a checkpoint of the current state saves). Without `frames`
+  /// its list of frames stays empty and nothing waits for a frame in flight.
+  RunState run_state(bool with_frames = true) {
     RunState st = *state;
     st.schedule_position = schedule->position();
-    st.frames = frames.entries();
+    if (with_frames) st.frames = frames.entries();
     st.history_bytes = history.bytes();
     st.refinement_bytes = hook ? hook->csv->bytes() : 0;
     st.cracks_bytes = cracks ? cracks->csv.bytes() : 0;
@@ -113,7 +114,7 @@ struct RunContext {
   void keep_good() {
     auto t = sim.timers().scope(Phase::Diagnostics);
     good.simulation.take(sim);
-    good.run = run_state();
+    good.run = run_state(false);  // its frames: those on disk when it is used (write_last_good)
     if (cracks) good.cracks = cracks->tracker;
     good.step = sim.steps_done();
   }
@@ -125,6 +126,10 @@ struct RunContext {
     good.simulation.restore(sim);
     if (cracks && good.cracks) cracks->tracker = *good.cracks;
     const auto& written = frames.entries();
+    // The good state's frames: those on disk up to its time (later ones are of later steps).
+    good.run.frames.clear();
+    for (const auto& f : written)
+      if (f.first <= sim.time()) good.run.frames.push_back(f);
     const bool good_frame = !written.empty() && written.back().first >= sim.time();
     if (!good_frame) {
       write_frame();
