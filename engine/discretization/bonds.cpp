@@ -45,7 +45,14 @@ double inverse_reference_length(const ParticleStore& p, std::size_t i, std::size
 
 BondRowBuilder::BondRowBuilder(const ParticleStore& p, PartialVolume rule,
                                const std::vector<geometry::Crack>& cracks, double reach)
-    : p_(p), pv_(rule), reach_(reach), cracks_(cracks) {}
+    : p_(p), pv_(rule), reach_(reach), cracks_(cracks) {
+  for (const auto& c : cracks) {
+    geometry::Vec3 lo = c.points.front(), hi = c.points.front();
+    for (const auto& q : c.points)
+      for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], q[a]), hi[a] = std::max(hi[a], q[a]);
+    crack_boxes_.emplace_back(lo, hi);
+  }
+}
 
 double BondRowBuilder::exact_reach(const ParticleStore& p, PartialVolume rule) {
   if (rule != PartialVolume::Exact) return 0.0;
@@ -71,9 +78,18 @@ bool BondRowBuilder::bonded(std::size_t i, std::size_t j) const {
   // One crossing test per pair, from the lower index: both bonds of a pair see the same answer.
   const auto lo = std::min(i, j), hi = std::max(i, j);
   const auto a = point_of(p_.reference_position, lo), b = point_of(p_.reference_position, hi);
-  for (const auto& c : cracks_)
-    if (geometry::crosses(c, a, b, p_.dim())) return false;
+  for (std::size_t c = 0; c < cracks_.size(); ++c) {
+    const auto& [box_lo, box_hi] = crack_boxes_[c];
+    bool apart = false;  // the segment's box and the crack's are disjoint (touching is not)
+    for (int d = 0; d < p_.dim(); ++d)
+      apart = apart || std::max(a[d], b[d]) < box_lo[d] || std::min(a[d], b[d]) > box_hi[d];
+    if (!apart && geometry::crosses(cracks_[c], a, b, p_.dim())) return false;
+  }
   return true;
+}
+
+bool BondRowBuilder::bonded_back(std::size_t i, std::size_t j) const {
+  return bond_weight(p_, pv_, j, i, 1.0 / inverse_reference_length(p_, i, j)) > 0.0;
 }
 
 void BondRowBuilder::keep_bonds(std::size_t i, std::vector<std::int32_t>& cand) const {
@@ -152,7 +168,7 @@ BondRows build_bond_rows(const ParticleStore& p, PartialVolume pv,
       builder.keep_bonds(u, cand);
       own[u] = static_cast<std::int32_t>(cand.size());
       for (const auto j : cand)
-        if (!builder.bonded(static_cast<std::size_t>(j), u)) {
+        if (!builder.bonded_back(u, static_cast<std::size_t>(j))) {
 #pragma omp atomic
           ++dual_only[static_cast<std::size_t>(j)];
         }
@@ -183,7 +199,7 @@ BondRows build_bond_rows(const ParticleStore& p, PartialVolume pv,
       for (const auto j : cand) {
         const auto v = static_cast<std::size_t>(j);
         const double inv = inverse_reference_length(p, u, v);
-        const bool pair = builder.bonded(v, u);
+        const bool pair = builder.bonded_back(u, v);
         b.other[k] = j, b.inv_length[k] = inv;
         b.flags[k++] =
             static_cast<std::uint8_t>(kOwn | kOwnIntact | (pair ? kDual | kDualIntact : 0));

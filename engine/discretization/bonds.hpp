@@ -128,12 +128,17 @@ struct BondRowBuilder {
   void keep_bonds(std::size_t i, std::vector<std::int32_t>& cand) const;
   /// Whether i has a bond to j (β_ij > 0 at the rows' length, no crack between them).
   bool bonded(std::size_t i, std::size_t j) const;
+  /// Given that i has a bond to j, whether j has one to i: the crack test is the pair's, so only
+  /// β_ji is left to ask.
+  bool bonded_back(std::size_t i, std::size_t j) const;
 
  private:
   const ParticleStore& p_;
   PartialVolume pv_;
   double reach_ = 0.0;
   const std::vector<geometry::Crack>& cracks_;
+  /// Each crack's bounding box: a pair whose segment's box misses it cannot cross the crack.
+  std::vector<std::pair<geometry::Vec3, geometry::Vec3>> crack_boxes_;
 };
 
 /// 1/|ξ| of the pair (i, j) from the reference positions, the same bits for (j, i).

@@ -268,20 +268,21 @@ RunContext open_outputs(const scene::Scene& s, Simulation& sim, const fs::path& 
 /// Before each refinement event: a line for a large one, and a stop (ResourceLimit) for one whose
 /// result would not fit the budget: the resident memory now plus the children's particles and about
 /// 3·2^d·(bonds per particle) bonds per parent (their own rows, the neighbours' rows that reach
-/// them, the garbage the moved rows leave until the next compaction), with the state kept twice.
+/// them, the garbage the moved rows leave until the next compaction), with the run's copies of
+/// its state (scene::run_bytes).
 refine::Refiner::EventCheck event_check(run::RunLog& log, double budget, bool given) {
   return [&log, budget, given](const Simulation& sim, std::size_t parents) {
     const int dim = sim.particles().dim();
     const double split = std::pow(2.0, dim), n = static_cast<double>(parents);
     const double per_particle_bonds = static_cast<double>(sim.bonds().bond_count()) /
                                       std::max<double>(1.0, sim.particles().size());
-    const auto per = state_bytes(sim.setup().model);
-    // What the process holds now (program, libraries, state, its last good copy), or at least
-    // the state twice.
+    // What the process holds now (program, libraries, state, its copies), or at least what
+    // run_bytes gives for its particles and bonds; the event adds (2^d − 1) particles and
+    // 3·2^d·(bonds per particle) bonds per parent.
     const double now = std::max(scene::estimated_memory_bytes(sim), run::current_memory_mb() * 1e6);
-    const double after = now + 2.0 * n *
-                                   ((split - 1.0) * per.per_particle +
-                                    3.0 * split * per_particle_bonds * per.per_bond);
+    const double after =
+        now + scene::run_bytes((split - 1.0) * n, 3.0 * split * per_particle_bonds * n,
+                               sim.setup().model, true);
     if (parents >= 10000)
       log.line(
           fmt::format("dhpd: refinement: splitting {} parents at step {} (a large event; "

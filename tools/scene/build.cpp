@@ -254,9 +254,11 @@ std::int64_t planned_steps(const Scene& s, double dt) {
 }
 
 double estimated_memory_bytes(const Simulation& sim) {
-  // The state as a snapshot holds it (every array, row arenas with their spare room), twice: the
-  // run keeps the last state that passed the instability guard (runner.cpp, LastGood).
-  return 2.0 * static_cast<double>(simulation_snapshot_bytes(sim));
+  // What the simulation's arrays hold, and a snapshot more: the run keeps the last state that
+  // passed the instability guard (runner.cpp, LastGood: the state fields and the rows' flags, and
+  // before a refinement event the whole state as a snapshot holds it).
+  return static_cast<double>(sim.memory_use().total()) +
+         static_cast<double>(simulation_snapshot_bytes(sim));
 }
 
 namespace {

@@ -26,8 +26,8 @@ std::int64_t planned_steps(const Scene& scene, double dt);
 /// Derived quantities as YAML text (appended to scene.resolved.yaml and printed by `dhpd check`).
 std::string derived_yaml(const Scene& scene, const Simulation& sim);
 
-/// Memory of a run's state in bytes: the simulation's snapshot size, twice (the state and the
-/// last good copy the instability guard keeps), without the program itself (about 60 MB).
+/// Memory of a run's state in bytes: the simulation's arrays and one snapshot (the last good copy
+/// the instability guard keeps holds less), without the program itself (about 60 MB).
 double estimated_memory_bytes(const Simulation& sim);
 
 }  // namespace dhpd::scene

@@ -209,6 +209,19 @@ double interior_stable_dt(const Scene& s, const SimulationSetup& probe, double h
 
 }  // namespace
 
+double run_bytes(double n, double b, ForceModel model, bool refines) {
+  const auto per = state_bytes(model);
+  // Per particle beside the state: the guard's copy of the state fields (displacement, velocity,
+  // force density, position: 12 doubles; damage), the kernel's packed y and V (4 doubles), the
+  // k-d tree of the bond search (its points and index, about 6 doubles).
+  constexpr double kStateFields = 13 * 8.0, kPacked = 4 * 8.0, kSearch = 6 * 8.0;
+  constexpr double kFlagBytes = 1.0;  // the guard's copy of the rows' flags, per entry
+  double bytes =
+      n * (per.per_particle + kStateFields + kPacked + kSearch) + b * (per.per_bond + kFlagBytes);
+  if (refines) bytes += n * per.per_particle + b * kFlagBytes;  // the whole copy before an event
+  return bytes;
+}
+
 ResourceEstimate estimate_resources(const Scene& s) {
   const int dim = s.dimension;
   const bool refined = s.refinement.has_value();
@@ -227,8 +240,7 @@ ResourceEstimate estimate_resources(const Scene& s) {
   // the zones' particles add their split share at the interior count.
   const double base_bonds = c.bonds >= 0 ? c.bonds : c.particles * sums.bonds;
   e.bonds = base_bonds + (e.particles - c.particles) * sums.bonds;
-  const auto per = state_bytes(s.model);
-  auto bytes = [&](double n, double b) { return 2.0 * (n * per.per_particle + b * per.per_bond); };
+  auto bytes = [&](double n, double b) { return run_bytes(n, b, s.model, refined); };
   e.bytes = bytes(e.particles, e.bonds);
   const bool triggers = refined && settings.trigger.any();
   e.particles_worst = triggers ? c.particles * std::pow(split, levels) : e.particles;

@@ -14,7 +14,7 @@ struct ResourceEstimate {
   double particles = 0;          ///< at the start (after the static zones are refined)
   bool exact_particles = false;  ///< counted point by point (small lattices, points files)
   double bonds = 0;  ///< own bonds at the start (an interior horizon's count per particle)
-  double bytes = 0;  ///< memory of the run: the state twice (it keeps a last good copy)
+  double bytes = 0;  ///< memory of the run (run_bytes)
   /// Refinement's worst case: every particle split down to max_level.
   double particles_worst = 0, bonds_worst = 0, bytes_worst = 0;
   double stable_dt = 0;    ///< of an interior particle of the finest spacing at the start
@@ -25,6 +25,12 @@ struct ResourceEstimate {
 
 /// The estimate; fast for any scene (no bond is built, no mesh is meshed).
 ResourceEstimate estimate_resources(const Scene& s);
+
+/// Bytes a run holds with n particles and b own bonds: its state (engine state_bytes), the
+/// guard's copy of what a step changes (the particles' state fields and a flag byte per row
+/// entry), the force kernel's packed positions and, while the bonds are searched, the k-d tree; a
+/// refining run also copies its whole state (particle fields and flags) before each event.
+double run_bytes(double n, double b, ForceModel model, bool refines);
 
 /// The memory a run may use: `max_memory_mb` when given, else the machine's available memory
 /// (MemAvailable of /proc/meminfo); +inf when unknown.
