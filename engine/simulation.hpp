@@ -47,9 +47,9 @@ struct SimulationSetup {
   std::vector<InitialCondition> initial_conditions;
   std::vector<BoundaryCondition> boundary_conditions;
   Effects effects;
-  double safety = 0.8;
+  double safety = 0.5;
   std::optional<double> fixed_dt;
-  StableStepEstimate stable_step = StableStepEstimate::ParticleBound;
+  StableStepEstimate stable_step = StableStepEstimate::Lanczos;
   bool spatial_sort = true;  ///< Morton-order the particles (ids keep the generation order)
   /// The body's shape, when known: refinement creates no particle outside it.
   std::optional<geometry::Shape> body;
@@ -207,8 +207,8 @@ class Simulation {
   [[noreturn]] void stop_unstable(const char* measured, double energy, double allowed,
                                   std::int64_t step, double time) const;
   /// Δt_crit of the current rows by setup_.stable_step (particle_dt_ must be current); not below
-  /// the per-particle bound.
-  double estimate_critical_dt() const;
+  /// the per-particle bound. Keeps the last Lanczos estimate and the bound it was made at.
+  double estimate_critical_dt();
   /// Energies::verlet_correction of the current state (a pass over particles, not bonds).
   double verlet_correction() const;
 
@@ -231,6 +231,8 @@ class Simulation {
   std::vector<std::uint8_t> touched_;  ///< commit_edit scratch, all 0 between edits
   PhaseTimers timers_;
   double time_ = 0.0, dt_ = 0.0, critical_dt_ = 0.0;
+  /// The last Lanczos estimate and the smallest per-particle bound when it was made (0: none).
+  double lanczos_dt_ = 0.0, lanczos_bound_ = 0.0;
   double external_work_ = 0.0, last_power_ = 0.0;
   EnergyBudget budget_;
   bool conservative_ = true;            ///< the model conserves energy (not classical-variable)

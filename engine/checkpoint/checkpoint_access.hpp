@@ -25,6 +25,7 @@ struct CheckpointAccess {
     ar(l.condition_body_force);
     ar(s.C_), ar(s.s0_), ar(s.particle_dt_);
     ar(s.reach_), ar(s.max_horizon_), ar(s.appended_since_compaction_), ar(s.layout_version_);
+    ar(s.lanczos_dt_), ar(s.lanczos_bound_);
   }
 
   /// Clocks, ledgers and counters: the last members of both lists.

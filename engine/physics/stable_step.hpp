@@ -30,6 +30,7 @@ PowerEstimate largest_stable_step(const BondRows& il, const ParticleStore& p,
 /// 0.2 % of its 100-iteration value after 20 iterations (the top of a PD spectrum is a dense
 /// cluster: the last digits come slowly), and the default stops near 35.
 PowerEstimate lanczos_stable_step(const BondRows& il, const ParticleStore& p,
-                                  int max_iterations = 80, double tolerance = 1e-4);
+                                  int max_iterations = 80, double tolerance = 1e-4,
+                                  const std::vector<double>* particle_dt = nullptr);
 
 }  // namespace dhpd

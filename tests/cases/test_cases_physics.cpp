@@ -1,6 +1,10 @@
 // The shipped paper cases that are cheap enough for every test run, each with the numbers the
 // issue asks for (IJNME 2016 §5.2–5.3; Ha & Bobaru 2010; Bobaru & Zhang 2015). The 3D and
 // uniform-fine cases run by hand or through `dhpd study` (docs/verification.md).
+#include <algorithm>
+#include <string>
+#include <vector>
+
 #include "tests/support/cli.hpp"
 
 namespace {
@@ -9,10 +13,11 @@ using namespace dhpd::cli_test;  // NOLINT: the fixture's helpers
 
 class PaperCase : public CliTest {
  protected:
-  /// Runs cases/NAME.yaml in full and returns its summary.json.
-  json run_case(const std::string& name) {
-    const auto o =
-        dhpd({"run", std::string(DHPD_SOURCE_DIR) + "/cases/" + name + ".yaml", "-o", name, "-q"});
+  /// Runs cases/NAME.yaml in full (with --set OVERRIDES) and returns its summary.json.
+  json run_case(const std::string& name, const std::vector<std::string>& overrides = {}) {
+    const auto o = dhpd({"run", std::string(DHPD_SOURCE_DIR) + "/cases/" + name + ".yaml", "-o",
+                         name, "-q", "--overwrite"},
+                        overrides);
     EXPECT_EQ(o.code, 0) << o.err;
     return read_json(dir_ / name / "summary.json");
   }
@@ -23,20 +28,36 @@ class PaperCase : public CliTest {
 };
 
 TEST_F(PaperCase, KalthoffWinkler2dAnglesInitiationAndSpeed) {
-  const auto s = run_case("kalthoff_winkler_2d_uniform");
-  const double c_r = s.at("rayleigh_speed").get<double>();
-  ASSERT_EQ(s.at("cracks").size(), 2u);
-  for (const auto& crack : s.at("cracks")) {
-    const double angle = crack.at("angle_deg").get<double>();
-    const double t0 = crack.at("initiation_time").get<double>();
-    std::printf("KW 2D %s: angle %.1f deg, initiation %.1f us, max speed %.0f m/s (c_R %.0f)\n",
-                crack.at("name").get<std::string>().c_str(), angle, t0 * 1e6,
-                crack.at("max_speed").get<double>(), c_r);
-    EXPECT_GE(angle, 60.0);  // published 65.7° (uniform), experiment about 70°
-    EXPECT_LE(angle, 72.0);
-    EXPECT_NEAR(t0, 26e-6, 0.15 * 26e-6);
-    EXPECT_LT(crack.at("max_speed").get<double>(), c_r);
+  // The final angle of a crack that crosses the plate is chaotic in the time step: runs 5 % apart
+  // in dt end 58–75° (docs/verification.md). The paper's number is a claim about where the angle
+  // lies, so it is checked on the median of runs at eight safeties; initiation and speed hold in
+  // every run.
+  std::vector<double> angles;
+  for (int k = 0; k < 8; ++k) {
+    const std::string safety = std::to_string(0.3 + 0.05 * k).substr(0, 4);
+    const auto s = run_case("kalthoff_winkler_2d_uniform", {"time.safety=" + safety});
+    const double c_r = s.at("rayleigh_speed").get<double>();
+    ASSERT_EQ(s.at("cracks").size(), 2u);
+    for (const auto& crack : s.at("cracks")) {
+      const double angle = crack.at("angle_deg").get<double>();
+      const double t0 = crack.at("initiation_time").get<double>();
+      std::printf(
+          "KW 2D safety %s %s: angle %.1f deg, initiation %.1f us, max speed %.0f m/s "
+          "(c_R %.0f)\n",
+          safety.c_str(), crack.at("name").get<std::string>().c_str(), angle, t0 * 1e6,
+          crack.at("max_speed").get<double>(), c_r);
+      angles.push_back(angle);
+      EXPECT_GE(angle, 50.0);  // no run turns back to the notch line or straight down
+      EXPECT_LE(angle, 80.0);
+      EXPECT_NEAR(t0, 26e-6, 0.15 * 26e-6);
+      EXPECT_LT(crack.at("max_speed").get<double>(), c_r);
+    }
   }
+  std::sort(angles.begin(), angles.end());
+  const double median = 0.5 * (angles[angles.size() / 2 - 1] + angles[angles.size() / 2]);
+  std::printf("KW 2D: median angle %.1f deg over %zu crack ends\n", median, angles.size());
+  EXPECT_GE(median, 60.0);  // published 65.7° (uniform), experiment about 70°
+  EXPECT_LE(median, 72.0);
 }
 
 TEST_F(PaperCase, KalthoffWinklerInitialVelocityBreaksNothing) {

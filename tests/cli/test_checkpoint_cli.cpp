@@ -91,8 +91,8 @@ TEST_F(CheckpointCli, DamagedMissingOrForeignCheckpointsAreRefusedBeforeAnything
     EXPECT_FALSE(fs::exists(dir_ / "r")) << "something was written for " << from;
   };
   refused("nowhere", "no checkpoint");
-  refused("a", "time.safety", {"time.safety=0.5"});
-  refused("a", "`safety: 0.8`", {"time.safety=0.5"});
+  refused("a", "time.safety", {"time.safety=0.4"});
+  refused("a", "`safety: 0.5`", {"time.safety=0.4"});
   refused("a", "effects.fracture", {"effects.fracture=false"});
   const auto bytes = read_text(dir_ / "a" / "checkpoint.bin");
   const auto damaged = [&](const std::string& name, const std::string& text) {

@@ -70,10 +70,10 @@ TEST_F(CliTest, CheckAndSummaryReportTheAllocatedBytes) {
   ASSERT_TRUE(std::regex_search(
       c.out, dt,
       std::regex(
-          R"(stable_step: \{run: ([0-9.e+-]+), estimate: bound, bound: ([0-9.e+-]+), lanczos: ([0-9.e+-]+),)")))
+          R"(stable_step: \{run: ([0-9.e+-]+), estimate: lanczos, bound: ([0-9.e+-]+), lanczos: ([0-9.e+-]+),)")))
       << c.out;
-  EXPECT_EQ(dt[1], dt[2]);                              // the run uses the bound by default
-  EXPECT_GT(std::stod(dt[3]), 1.2 * std::stod(dt[2]));  // which is conservative
+  EXPECT_EQ(dt[1], dt[3]);                              // the run takes the Lanczos step
+  EXPECT_GT(std::stod(dt[3]), 1.2 * std::stod(dt[2]));  // which the bound would waste
   const auto dir = run_plate("out", {});
   const auto j = read_json(dir / "summary.json");
   const auto& a = j.at("allocated_bytes");

@@ -75,9 +75,9 @@ TEST_F(CliTest, FixedDtAboveStableRunsOnlyWithCheckOffAndStopsWithExitThree) {
   write("bar.yaml", kBar);
   const auto check = dhpd({"check", "bar.yaml"});
   ASSERT_EQ(check.code, 0) << check.err;
-  const auto at = check.out.find("stable_dt: ");
+  const auto at = check.out.find("stable_step: {run: ");  // the step the run would take
   ASSERT_NE(at, std::string::npos) << check.out;
-  const double stable = std::stod(check.out.substr(at + 11));
+  const double stable = std::stod(check.out.substr(at + 19));
   const std::string dt = fmt::format("time.dt={:.17g}", 1.5 * stable);
   const auto refused = dhpd({"run", "bar.yaml", "-o", "refused", "-q"}, {dt});
   EXPECT_EQ(refused.code, 2) << refused.err;

@@ -1,6 +1,7 @@
-// The Lanczos stable step (docs/theory.md §9) after refinement events: recomputed from the new
-// rows (the same value a fresh estimate of them gives), about halved when the finest spacing
-// halves, and the run at safety × it stays stable.
+// The Lanczos stable step (docs/theory.md §9) after refinement events: estimated again at the
+// first split to a level (the value a fresh estimate of the new rows gives), followed through the
+// per-particle bound at later ones, about halved when the finest spacing halves, and the run at
+// safety × it stays stable.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -32,8 +33,10 @@ TEST(StableStepEvents, TheLanczosStepFollowsEveryEvent) {
     ASSERT_GT(refine::split(sim, parents).parents, 0u);
     const double fresh = std::max(critical_time_step(sim.bonds(), sim.particles()),
                                   lanczos_stable_step(sim.bonds(), sim.particles()).dt);
-    // Within the Lanczos tolerance (a re-sort after the event sums in another slot order).
-    EXPECT_NEAR(sim.critical_dt(), fresh, 1e-4 * fresh) << "event " << event;
+    // The first split to a level runs Lanczos again: within its tolerance (a re-sort after the
+    // event sums in another slot order). A later split to the same level keeps the last value
+    // scaled by the per-particle bound (docs/theory.md §9): within 1.5 % of a fresh estimate.
+    EXPECT_NEAR(sim.critical_dt(), fresh, (event == 0 ? 1e-4 : 0.015) * fresh) << "event " << event;
     EXPECT_EQ(sim.dt(), s.safety * sim.critical_dt());
     std::printf("event %d: critical dt %.9g, fresh estimate %.9g\n", event, sim.critical_dt(),
                 fresh);

@@ -39,7 +39,7 @@ boundary_conditions:
 effects:
   fracture: true
   refinement: {trigger: {damage: 0.05}, buffer: 0.5, max_level: 1, check_every: 10}
-time: {end: 1.2e-5, safety: 0.8}
+time: {end: 1.2e-5, safety: 0.8, stable_step: bound}
 output: {frames: 12, history_every: 5, checkpoint_every: 40}
 measure:
   every: 10

@@ -83,7 +83,8 @@ TEST(Scene, DefaultsAreFilledIn) {
   EXPECT_EQ(s.model, ForceModel::DualHorizon);
   EXPECT_EQ(s.partial_volume, PartialVolume::None);
   EXPECT_FALSE(s.effects.fracture);
-  EXPECT_DOUBLE_EQ(s.time.safety, 0.8);
+  EXPECT_DOUBLE_EQ(s.time.safety, 0.5);
+  EXPECT_EQ(s.time.stable_step, StableStepEstimate::Lanczos);
   EXPECT_EQ(s.output.frames, 20);
   EXPECT_FALSE(s.output.every.has_value());
   EXPECT_EQ(s.output.directory, "out");

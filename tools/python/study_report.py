@@ -94,22 +94,37 @@ def write_csv(path, rows):
     """study.csv: one row per run (overrides as JSON; peak_source: where peak_mib comes from)."""
     with open(path + ".tmp", "w", newline="") as f:
         w = csv.writer(f)
-        w.writerow(COLUMNS + ["overrides", "peak_source"])
+        w.writerow(COLUMNS + ["overrides", "peak_source", "matched_reference"])
         for r in rows:
             w.writerow([r[c] if r[c] is not None else "" for c in COLUMNS]
-                       + [json.dumps(r["overrides"]), r.get("peak_source", "")])
+                       + [json.dumps(r["overrides"]), r.get("peak_source", ""),
+                          r.get("matched", "")])
     os.replace(path + ".tmp", path)
 
 
 def criteria_failures(study, rows):
     """(variant, metric, value, limit) for every criterion a variant misses (an unmeasured
-    metric misses too)."""
+    metric misses too). A value at the limit up to round-off is within it: distances between
+    lattice points come out as the limit plus an ulp (0.0008 = 4 spacings of 0.2 mm)."""
     out = []
     for r in rows:
         for metric, limit in study.get("criteria", {}).items():
             value = r[metric]
-            if value is None or not value <= limit:
+            if value is None or not value <= limit + 1e-9 * abs(limit):
                 out.append((r["label"], metric, value, limit))
+    return out
+
+
+def group_verdicts(study, rows):
+    """(variant, passed?, runs passing, runs) per variant (rows grouped by their `group`, a row
+    without one alone): it passes when at most a quarter of its runs miss a criterion."""
+    groups = {}
+    for r in rows:
+        groups.setdefault(r.get("group", r["label"]), []).append(r)
+    out = []
+    for group, members in groups.items():
+        passing = sum(1 for r in members if not criteria_failures(study, [r]))
+        out.append((group, len(members) - passing <= len(members) // 4, passing, len(members)))
     return out
 
 
@@ -131,11 +146,42 @@ def criteria_lines(study, rows, failures):
     if "criteria" not in study:
         return []
     limits = ", ".join(f"{k} ≤ {v}" for k, v in study["criteria"].items())
+    verdicts = group_verdicts(study, rows)
+    failed = [g for g, ok, _, _ in verdicts if not ok]
     lines = ["", f"Criteria ({limits}): "
-             + ("**all variants pass**." if not failures else "**failed**:"), ""]
+             + ("**all variants pass**." if not failed else "**failed**:"), ""]
+    lines += [f"- {g}: {passed} of {total} runs meet every criterion"
+              + ("" if ok else " (too few: at most a quarter may miss)")
+              for g, ok, passed, total in verdicts if total > 1]
     lines += [f"- {label}: {metric} = {fmt(value)} (limit {limit})"
               for label, metric, value, limit in failures]
     return lines
+
+
+def spread_lines(members, rows):
+    """study.md's paragraph on the reference members and which one each variant matched."""
+    if len(members) < 2:
+        return []
+    listed = "; ".join(f"{m['label']}: {m['row'].get('particles_end')} particles, "
+                       f"{m['summary'].get('broken_bonds')} broken bonds" for m in members)
+    matched = "; ".join(f"{r['label']}: {r.get('matched')}" for r in rows)
+    return ["", f"Reference members (the reference under changes that should not matter): "
+            f"{listed}. Each variant's errors are against the member it matches best "
+            f"(study_members.py): {matched}."]
+
+
+def control_lines(study, rows):
+    """study.md's line on the controls (`expect: miss`): each must miss a criterion."""
+    controls = [r for r in rows if r.get("expect") == "miss"]
+    if not controls:
+        return []
+    lines = []
+    for r in controls:
+        missed = [m for _, m, _, _ in criteria_failures(study, [r])]
+        lines.append(f"- control {r['label']}: "
+                     + (f"misses {', '.join(missed)} as it must" if missed else
+                        "**meets every criterion: the criteria cannot tell variants apart**"))
+    return ["", "Controls that must miss a criterion:", ""] + lines
 
 
 def variant_lines(rows, ref_row, front):
@@ -160,7 +206,7 @@ def progress_lines(progress):
 
 
 def write_outputs(study, rows, ref_row, out, perturbed=None, mirror_spread=None,
-                  progress=(0, 0, ())):
+                  progress=(0, 0, ()), members=()):
     """study.csv, pareto.png, study.md (and angles.csv) for the rows measured so far; the
     cheapest row within the budget."""
     metric = study.get("error", "angle_deg")
@@ -194,7 +240,10 @@ def write_outputs(study, rows, ref_row, out, perturbed=None, mirror_spread=None,
         lines += study_angles.report(study["angles"]["early_distance"], [ref_row] + rows, out)
     checked = rows + ([perturbed] if perturbed else [])
     lines += perturbed_lines(study, perturbed, criteria_failures(study, checked))
-    lines += criteria_lines(study, rows, criteria_failures(study, rows))
+    lines += spread_lines(members, rows)
+    judged = [r for r in rows if r.get("expect") != "miss"]
+    lines += criteria_lines(study, judged, criteria_failures(study, judged))
+    lines += control_lines(study, rows)
     lines += ["", "![error against time](pareto.png)", ""]
     with open(os.path.join(out, "study.md.tmp"), "w") as f:
         f.write("\n".join(lines))

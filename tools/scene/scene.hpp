@@ -87,10 +87,10 @@ struct LocatedBoundaryCondition {
 struct TimeSpec {
   std::optional<double> end;
   std::optional<std::int64_t> steps;
-  double safety = 0.8;
+  double safety = 0.5;
   std::optional<double> dt;
   bool check_dt = true;  ///< refuse a fixed dt above the stable step
-  StableStepEstimate stable_step = StableStepEstimate::ParticleBound;  ///< how Δt_crit is found
+  StableStepEstimate stable_step = StableStepEstimate::Lanczos;  ///< how Δt_crit is found
   double energy_tolerance = 0.01;  ///< the instability guard's energy bound (EnergyBudget)
   Location where;                  ///< of the `time` map (dt checks refer to time.dt)
 };

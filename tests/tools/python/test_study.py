@@ -6,6 +6,7 @@ driver holds 300 MiB; study.csv and study.md are written as the variants finish;
 into the same folder reuses every completed run (no engine started) and runs again exactly those
 whose study_variant.json or summary.json no longer match; pareto.png carries the budget line."""
 import json
+import math
 import os
 import shutil
 import subprocess
@@ -306,6 +307,49 @@ class Pareto(unittest.TestCase):
         md = support.read(os.path.join(out, "study.md"))
         self.assertIn("**In progress: 2 of 4 variants done.**", md)
         self.assertEqual(len(study_rows(os.path.join(out, "study.csv"))), 5)
+
+
+class Verdicts(unittest.TestCase):
+    """The criteria, the quarter rule over a variant's runs and the controls (study_members.py)."""
+    STUDY = {"criteria": {"crack_distance": 0.0008, "broken_bonds": 0.25}}
+
+    @staticmethod
+    def run_row(label, distance, bonds=0.1, group=None, expect=None):
+        r = {"label": label, "crack_distance": distance, "broken_bonds": bonds}
+        if group:
+            r["group"] = group
+        if expect:
+            r["expect"] = expect
+        return r
+
+    def test_a_value_at_the_limit_up_to_round_off_is_within_it(self):
+        at_limit = self.run_row("a", math.nextafter(0.0008, 1.0))  # 4 spacings of 0.2 mm + an ulp
+        self.assertEqual(study_report.criteria_failures(self.STUDY, [at_limit]), [])
+        past = self.run_row("b", 0.0008 * (1 + 1e-6))
+        self.assertEqual(study_report.criteria_failures(self.STUDY, [past]),
+                         [("b", "crack_distance", past["crack_distance"], 0.0008)])
+        unmeasured = self.run_row("c", None)
+        self.assertEqual(len(study_report.criteria_failures(self.STUDY, [unmeasured])), 1)
+
+    def test_a_variant_passes_when_at_most_a_quarter_of_its_runs_miss(self):
+        rows = [self.run_row(f"v{k}", 0.001 if k < misses else 0.0005, group="v")
+                for misses in (1, 2) for k in range(4)]
+        one_miss = study_report.group_verdicts(self.STUDY, rows[:4])
+        two_misses = study_report.group_verdicts(self.STUDY, rows[4:])
+        self.assertEqual(one_miss, [("v", True, 3, 4)])
+        self.assertEqual(two_misses, [("v", False, 2, 4)])
+        alone = study_report.group_verdicts(self.STUDY, [self.run_row("w", 0.001)])
+        self.assertEqual(alone, [("w", False, 0, 1)])
+
+    def test_a_control_that_meets_every_criterion_is_reported(self):
+        import study_members
+        rows = [self.run_row("coarse", 0.0011, expect="miss"),
+                self.run_row("too good", 0.0002, expect="miss")]
+        rows[1]["matched"] = "uniform fine"
+        lines = study_members.control_failures(self.STUDY, rows)
+        self.assertEqual(len(lines), 1)
+        self.assertTrue(lines[0].startswith("too good: meets every criterion (against uniform "
+                                            "fine)"))
 
 
 class PolledPeak(unittest.TestCase):
