@@ -108,7 +108,8 @@ TEST_F(CliTest, UnstableRunKeepsItsLastGoodStateAsFinalFrameAndCheckpoint) {
   write("bar.yaml", kBar);
   const auto check = dhpd({"check", "bar.yaml"});
   const double stable = std::stod(check.out.substr(check.out.find("stable_dt: ") + 11));
-  // Just above the true limit (the estimate is ~17 % conservative in 1D): the highest mode grows
+  // Just above the true limit (check's stable_dt is the per-particle bound (9.1), ~17 %
+  // conservative in 1D; the run's default Lanczos step is not): the highest mode grows
   // slowly, so the run gets past step 100 before the guard stops it.
   const std::vector<std::string> sets{fmt::format("time.dt={:.17g}", 1.18 * stable),
                                       "time.check_dt=false", "time.steps=3000"};

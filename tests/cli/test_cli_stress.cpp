@@ -201,9 +201,10 @@ TEST_F(CliStress, EnergyAboveTheBoundFailsAndBelowItPasses) {
 }
 
 TEST_F(CliStress, FixedStepOneAndAHalfTimesTheStableOneFails) {
-  // `time.check_dt: false` lets a fixed dt of 1.5x the stable one through the loader; on the 10x
-  // bar it goes unstable and the run's guard stops it (exit 3, status "unstable"; the 2D cases
-  // stay stable at 1.5x: the Silling-Askari bound is conservative there, 2x blows up at once).
+  // `time.check_dt: false` lets a fixed dt of 1.5x the stable one `check` prints (the per-particle
+  // bound (9.1)) through the loader; on the 10x bar it goes unstable and the run's guard stops it
+  // (exit 3, status "unstable"; the 2D cases stay stable at 1.5x: the bound is 0.6 of their
+  // limit, docs/theory.md §9; 2x blows up at once).
   // The guard stops it before a history row records the growth, so the energy criterion of the
   // rows written may still pass: the status criterion is the one that fails.
   const std::string scene = kStressCases + "horizon_ratio_1d.yaml";
