@@ -2,6 +2,8 @@
 // (the tests read frames back with tests/support/vtk_read.cpp).
 #include "tools/output/vtk_writer.hpp"
 
+#include "tools/output/vtu_lz4.hpp"
+
 #include "engine/base/errors.hpp"
 
 #include <fmt/format.h>
@@ -35,30 +37,6 @@ namespace dhpd::io {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string xml_escape(const std::string& text) {
-  std::string out;
-  out.reserve(text.size());
-  for (char c : text) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
-}
 
 /// Renames `from` onto `to`; on failure removes `from` and throws with both paths.
 void commit_file(const fs::path& from, const fs::path& to) {
@@ -200,7 +178,8 @@ FrameSeries::FrameSeries(std::string directory, std::string name,
     : directory_(std::move(directory)),
       name_(std::move(name)),
       materials_(std::move(materials)),
-      compression_(compression) {
+      compression_(compression),
+      lz4_(compression == Compression::lz4 ? std::make_shared<Lz4VtuWriter>() : nullptr) {
   // VTK's own error dump would bury the one message the run gives (IoError, with the reason).
   vtkObject::GlobalWarningDisplayOff();
 }
@@ -209,6 +188,30 @@ void FrameSeries::write(double time, std::int64_t step, const std::vector<double
                         const std::vector<PointField>& fields) {
   ensure_directory(directory_);
   const std::string file = fmt::format("{}_{:06d}.vtu", name_, entries_.size());
+  if (lz4_) {  // LZ4 frames without VTK: unchanged arrays keep their compressed blocks
+    if (points.size() % 3 != 0)
+      throw std::invalid_argument(
+          fmt::format("point coordinates: {} is not a multiple of 3", points.size()));
+    for (const PointField& field : fields)
+      if (field.components < 1 ||
+          value_count(field) != points.size() / 3 * static_cast<std::size_t>(field.components))
+        throw std::invalid_argument(
+            fmt::format("field '{}': {} values for {} points of {} components", field.name,
+                        value_count(field), points.size() / 3, field.components));
+    const fs::path final_path = fs::path(directory_) / file;
+    const fs::path tmp = fs::path(final_path).concat(".tmp");
+    try {
+      lz4_->write(tmp, time, step, materials_, points, fields);
+    } catch (...) {
+      std::error_code ec;
+      fs::remove(tmp, ec);  // the frame never gets its final name: readers see whole frames
+      throw;
+    }
+    commit_file(tmp, final_path);
+    entries_.emplace_back(time, file);
+    write_pvd();
+    return;
+  }
   auto grid = make_grid(points, fields);
   add_time_data(grid, time, step);
   if (!materials_.empty()) {

@@ -4,11 +4,14 @@
 // (tests/support/vtk_read.hpp).
 #pragma once
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <variant>
 #include <vector>
 
 namespace dhpd::io {
+
+class Lz4VtuWriter;
 
 /// A named point array, interleaved by component (x0 y0 z0 x1 y1 z1 ...).
 struct PointField {
@@ -42,6 +45,9 @@ class FrameSeries {
   std::string directory_, name_;
   std::vector<std::string> materials_;
   Compression compression_;
+  /// The LZ4 frames' writer and its encoded arrays (vtu_lz4.hpp); null for zlib and none, which
+  /// VTK writes.
+  std::shared_ptr<Lz4VtuWriter> lz4_;
   std::vector<std::pair<double, std::string>> entries_;  ///< (time, file name)
 };
 
