@@ -64,12 +64,24 @@ std::size_t value_count(const PointField& field) {
   return std::visit([](const auto& v) { return v.size(); }, field.values);
 }
 
-vtkSmartPointer<vtkDataArray> make_point_array(const PointField& field, std::size_t n) {
-  if (field.components < 1 ||
-      value_count(field) != n * static_cast<std::size_t>(field.components)) {
-    throw std::invalid_argument(fmt::format("point field '{}': {} values for {} points x {} comps",
-                                            field.name, value_count(field), n, field.components));
+/// Throws std::invalid_argument unless the points come in threes and every field has one tuple of
+/// at least one component per point (both writers check this before writing anything).
+void check_shapes(const std::vector<double>& points, const std::vector<PointField>& fields) {
+  if (points.size() % 3 != 0) {
+    throw std::invalid_argument(
+        fmt::format("point coordinates: {} is not a multiple of 3", points.size()));
   }
+  const std::size_t n = points.size() / 3;
+  for (const PointField& field : fields)
+    if (field.components < 1 ||
+        value_count(field) != n * static_cast<std::size_t>(field.components)) {
+      throw std::invalid_argument(
+          fmt::format("point field '{}': {} values for {} points x {} comps", field.name,
+                      value_count(field), n, field.components));
+    }
+}
+
+vtkSmartPointer<vtkDataArray> make_point_array(const PointField& field, std::size_t n) {
   vtkSmartPointer<vtkDataArray> array;
   if (const auto* d = std::get_if<std::vector<double>>(&field.values)) {
     auto a = vtkSmartPointer<vtkDoubleArray>::New();
@@ -104,10 +116,6 @@ void add_time_data(vtkUnstructuredGrid* grid, double time, std::int64_t step) {
 
 vtkSmartPointer<vtkUnstructuredGrid> make_grid(const std::vector<double>& points,
                                                const std::vector<PointField>& fields) {
-  if (points.size() % 3 != 0) {
-    throw std::invalid_argument(
-        fmt::format("point coordinates: {} is not a multiple of 3", points.size()));
-  }
   const std::size_t n = points.size() / 3;
   auto coords = vtkSmartPointer<vtkPoints>::New();
   coords->SetDataType(VTK_DOUBLE);
@@ -188,16 +196,8 @@ void FrameSeries::write(double time, std::int64_t step, const std::vector<double
                         const std::vector<PointField>& fields) {
   ensure_directory(directory_);
   const std::string file = fmt::format("{}_{:06d}.vtu", name_, entries_.size());
+  check_shapes(points, fields);
   if (lz4_) {  // LZ4 frames without VTK: unchanged arrays keep their compressed blocks
-    if (points.size() % 3 != 0)
-      throw std::invalid_argument(
-          fmt::format("point coordinates: {} is not a multiple of 3", points.size()));
-    for (const PointField& field : fields)
-      if (field.components < 1 ||
-          value_count(field) != points.size() / 3 * static_cast<std::size_t>(field.components))
-        throw std::invalid_argument(
-            fmt::format("field '{}': {} values for {} points of {} components", field.name,
-                        value_count(field), points.size() / 3, field.components));
     const fs::path final_path = fs::path(directory_) / file;
     const fs::path tmp = fs::path(final_path).concat(".tmp");
     try {

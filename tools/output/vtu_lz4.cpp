@@ -34,8 +34,8 @@ void hash_bytes(const char* data, std::size_t bytes, std::uint64_t out[2]) {
     std::uint64_t w;
     std::memcpy(&w, data + k, 8);
     a = (a ^ w) * 0x100000001b3ULL;
-    b = ((b + w * 0xc2b2ae3d27d4eb4fULL) << 31 | (b + w * 0xc2b2ae3d27d4eb4fULL) >> 33) *
-        0x9e3779b185ebca87ULL;
+    const std::uint64_t mixed = b + w * 0xc2b2ae3d27d4eb4fULL;
+    b = (mixed << 31 | mixed >> 33) * 0x9e3779b185ebca87ULL;
   }
   std::uint64_t w = 0;
   if (k < bytes) std::memcpy(&w, data + k, bytes - k);
@@ -52,9 +52,12 @@ std::pair<std::string, std::string> range_of(const T* v, std::size_t count, int 
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
   const auto c = static_cast<std::size_t>(components);
   for (std::size_t t = 0; t < count / c; ++t) {
-    double x = 0.0;
-    for (std::size_t a = 0; a < c; ++a) x += static_cast<double>(v[c * t + a]) * v[c * t + a];
-    x = c == 1 ? static_cast<double>(v[t]) : std::sqrt(x);
+    double x = static_cast<double>(v[t]);
+    if (c > 1) {
+      x = 0.0;
+      for (std::size_t a = 0; a < c; ++a) x += static_cast<double>(v[c * t + a]) * v[c * t + a];
+      x = std::sqrt(x);
+    }
     lo = std::min(lo, x), hi = std::max(hi, x);
   }
   return {fmt::format("{:.11g}", lo), fmt::format("{:.11g}", hi)};
