@@ -9,15 +9,17 @@
 #include <limits>
 
 #include "engine/base/errors.hpp"
+#include "engine/checkpoint/checkpoint.hpp"
 #include "engine/physics/bond_loops.hpp"
 #include "engine/physics/stable_step.hpp"
 
 namespace dhpd {
 
-Simulation::Simulation(const SimulationSetup& setup) : setup_(setup), p_(setup.section.dim) {
+Simulation::Simulation(SimulationSetup setup)
+    : setup_(std::move(setup)), fingerprint_(setup_fingerprint(setup_)), p_(setup_.section.dim) {
   {
     auto t = timers_.scope(Phase::Search);
-    init_particles();
+    init_particles();  // takes the points out of setup_
     bonds_ = build_bond_rows(p_, setup_.partial_volume, setup_.cracks);
     if (corrects_interfaces())
       initial_interfaces_ = correct_level_interfaces(bonds_, p_, setup_.partial_volume, C_, {});
@@ -69,7 +71,8 @@ double Simulation::estimate_critical_dt() {
 }
 
 void Simulation::init_particles() {
-  auto pts = setup_.points;
+  auto pts = std::move(setup_.points);
+  setup_.points = {};
   std::vector<std::int32_t> order(pts.size());
   for (std::size_t k = 0; k < order.size(); ++k) order[k] = static_cast<std::int32_t>(k);
   if (setup_.spatial_sort) {

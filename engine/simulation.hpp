@@ -102,7 +102,9 @@ struct Energies {
 
 class Simulation {
  public:
-  explicit Simulation(const SimulationSetup& setup);
+  /// Builds the particles and rows. The setup's points are not kept (their hash is, as
+  /// fingerprint()): pass it with std::move where the caller needs it no more.
+  explicit Simulation(SimulationSetup setup);
 
   /// What a step may compute on the way, for the outputs that follow it.
   struct StepExtras {
@@ -177,7 +179,11 @@ class Simulation {
   BondConstants bond_constants() const;
   const std::vector<double>& micromodulus() const { return C_; }
   const std::vector<double>& critical_stretch() const { return s0_; }
+  /// The setup the run was built from, without its points (released once the particles hold
+  /// them; fingerprint() is their hash).
   const SimulationSetup& setup() const { return setup_; }
+  /// setup_fingerprint of the setup as it was given (points included).
+  std::uint64_t fingerprint() const { return fingerprint_; }
   /// What the interface correction did when the simulation was built.
   const InterfaceCorrection& initial_interfaces() const { return initial_interfaces_; }
   const PhaseTimers& timers() const { return timers_; }
@@ -213,6 +219,7 @@ class Simulation {
   double verlet_correction() const;
 
   SimulationSetup setup_;
+  std::uint64_t fingerprint_ = 0;
   ParticleStore p_;
   BondRows bonds_;
   ResolvedLoads loads_;

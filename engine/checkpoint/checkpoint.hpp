@@ -67,7 +67,7 @@ std::vector<std::byte> encode_checkpoint(const CheckpointParts& parts);
 CheckpointParts decode_checkpoint(std::span<const std::byte> bytes, const std::string& source);
 
 /// The checkpoint of `sim` streamed to `path` through an AtomicFile, without a serialised copy
-/// in memory: the bytes of encode_checkpoint({scene_text, setup_fingerprint(sim.setup()),
+/// in memory: the bytes of encode_checkpoint({scene_text, sim.fingerprint(),
 /// save_simulation(sim), run_state}).
 void write_checkpoint_file(const std::string& path, const std::string& scene_text,
                            const Simulation& sim, std::span<const std::byte> run_state,

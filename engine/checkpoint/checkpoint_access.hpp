@@ -253,9 +253,10 @@ struct CheckpointAccess {
     const auto& b = s.bonds_;
     const std::size_t slots = b.other.size();
     const auto& l = s.loads_;
-    const bool ok = rows_fit(b.rows, s.p_.size(), slots) && b.inv_length.size() == slots &&
-                    b.flags.size() == slots && b.stiffness.size() == slots &&
-                    (b.factor.empty() || b.factor.size() == slots) &&
+    const auto lengths = std::max<std::int64_t>(1, std::ssize(b.inverse_lengths));
+    const bool ok = rows_fit(b.rows, s.p_.size(), slots) && b.length_index.size() == slots &&
+                    in_range(b.length_index, 0, lengths) && b.flags.size() == slots &&
+                    b.stiffness.size() == slots && (b.factor.empty() || b.factor.size() == slots) &&
                     b.break_ratio2.size() == s.p_.size() && in_range(b.other, -1, n) &&
                     b.stiffness_scale > 0.0 && in_range(l.prescribed, 0, n) &&
                     in_range(l.loaded, 0, n) && l.mask.size() == l.prescribed.size() &&

@@ -6,6 +6,7 @@
 
 #include "engine/base/errors.hpp"
 #include "engine/discretization/bonds.hpp"
+#include "engine/discretization/length_table.hpp"
 
 namespace dhpd {
 
@@ -60,7 +61,7 @@ void merge_row(const BondRows& b, std::int32_t t, const std::vector<std::int32_t
 
 /// Writes `entries` as row t (moving it to the end of the arena when it does not fit).
 void write_row(BondRows& b, const ParticleStore& p, std::int32_t t,
-               const std::vector<Entry>& entries) {
+               const std::vector<Entry>& entries, LengthInterner& lengths) {
   const auto u = static_cast<std::size_t>(t);
   const auto n = static_cast<std::int32_t>(entries.size());
   b.live += n - b.rows.count[u];
@@ -75,7 +76,8 @@ void write_row(BondRows& b, const ParticleStore& p, std::int32_t t,
     const auto& x = entries[static_cast<std::size_t>(e)];
     b.other[k] = x.other;
     b.flags[k] = x.flags;
-    b.inv_length[k] = inverse_reference_length(p, u, static_cast<std::size_t>(x.other));
+    b.length_index[k] =
+        lengths.index_of(inverse_reference_length(p, u, static_cast<std::size_t>(x.other)));
     b.stiffness[k] = 0.0f;  // derived by the caller
     if (!b.factor.empty()) b.factor[k] = x.factor;
     b.own_bonds += x.flags & kOwn ? 1 : 0;
@@ -124,7 +126,8 @@ std::vector<std::int32_t> replace_own_bonds(BondRows& b, const ParticleStore& p,
               merged[r]);
     d = last;
   }
-  for (std::size_t r = 0; r < touched.size(); ++r) write_row(b, p, touched[r], merged[r]);
+  LengthInterner lengths(b.inverse_lengths);
+  for (std::size_t r = 0; r < touched.size(); ++r) write_row(b, p, touched[r], merged[r], lengths);
   return touched;
 }
 

@@ -6,8 +6,11 @@
 #include <cmath>
 #include <numeric>
 
+#include <omp.h>
+
 #include "engine/base/errors.hpp"
 #include "engine/base/parallel.hpp"
+#include "engine/discretization/length_table.hpp"
 #include "engine/discretization/neighbor_search.hpp"
 #include "geometry/intersection.hpp"
 
@@ -114,7 +117,7 @@ std::int32_t BondRows::own_count(std::size_t i) const {
 void BondRows::fit_arena() {
   const auto n = static_cast<std::size_t>(rows.arena);
   other.resize(n, -1);
-  inv_length.resize(n, 0.0);
+  length_index.resize(n, 0);
   flags.resize(n, 0);
   stiffness.resize(n, 0.0f);
   if (!factor.empty()) factor.resize(n, 1.0f);
@@ -126,27 +129,58 @@ std::size_t held(const std::vector<T>& v) {
   return v.capacity() * sizeof(T);
 }
 
+/// One table from the threads' tables of build_bond_rows, whose rows hold their `own[i]` own
+/// bonds first (in neighbour order, indices into the table of thread team_of[i]), then dual-only
+/// entries without an index: team t's values follow those of the teams before it, own entries
+/// shift by as much, a dual-only entry takes the index of its own side, and the table is made
+/// canonical.
+void merge_team_tables(BondRows& b, const std::vector<std::int32_t>& own,
+                       const std::vector<std::vector<double>>& tables,
+                       const std::vector<std::uint8_t>& team_of) {
+  std::vector<std::int32_t> offset;
+  b.inverse_lengths.clear();
+  for (const auto& t : tables) {
+    offset.push_back(static_cast<std::int32_t>(b.inverse_lengths.size()));
+    b.inverse_lengths.insert(b.inverse_lengths.end(), t.begin(), t.end());
+  }
+  const auto n = static_cast<std::int64_t>(own.size());
+#pragma omp parallel for schedule(static) if (n >= kParallelMinParticles)
+  for (std::int64_t i = 0; i < n; ++i) {
+    const auto s = b.begin(static_cast<std::size_t>(i));
+    for (auto k = s; k < s + own[i]; ++k) b.length_index[k] += offset[team_of[i]];
+  }
+#pragma omp parallel for schedule(static) if (n >= kParallelMinParticles)
+  for (std::int64_t i = 0; i < n; ++i)
+    for (auto k = b.begin(i) + own[i]; k < b.end(i); ++k) {  // dual-only: its own side in row j
+      const auto j = static_cast<std::size_t>(b.other[k]);
+      const auto first = b.other.begin() + b.begin(j), last = first + own[j];
+      const auto at = std::lower_bound(first, last, static_cast<std::int32_t>(i)) - b.other.begin();
+      b.length_index[k] = b.length_index[at];
+    }
+  canonical_lengths(b.inverse_lengths, b.length_index, b.other);
+}
+
 /// Sorts the entries of row i by `other` (rows of a few hundred entries: an index sort).
 void sort_row(BondRows& b, std::size_t i, std::vector<std::int64_t>& order,
-              std::vector<std::int32_t>& o, std::vector<double>& inv,
+              std::vector<std::int32_t>& o, std::vector<std::int32_t>& len,
               std::vector<std::uint8_t>& fl) {
   const auto s = b.begin(i), n = b.end(i) - s;
   order.resize(static_cast<std::size_t>(n));
   std::iota(order.begin(), order.end(), s);
   std::sort(order.begin(), order.end(),
             [&](std::int64_t x, std::int64_t y) { return b.other[x] < b.other[y]; });
-  o.clear(), inv.clear(), fl.clear();
+  o.clear(), len.clear(), fl.clear();
   for (const auto k : order)
-    o.push_back(b.other[k]), inv.push_back(b.inv_length[k]), fl.push_back(b.flags[k]);
+    o.push_back(b.other[k]), len.push_back(b.length_index[k]), fl.push_back(b.flags[k]);
   std::copy(o.begin(), o.end(), b.other.begin() + s);
-  std::copy(inv.begin(), inv.end(), b.inv_length.begin() + s);
+  std::copy(len.begin(), len.end(), b.length_index.begin() + s);
   std::copy(fl.begin(), fl.end(), b.flags.begin() + s);
 }
 }  // namespace
 
 std::size_t BondRows::bytes() const {
-  return rows.bytes() + held(other) + held(inv_length) + held(flags) + held(factor) +
-         held(stiffness) + held(break_ratio2);
+  return rows.bytes() + held(other) + held(length_index) + held(inverse_lengths) + held(flags) +
+         held(factor) + held(stiffness) + held(break_ratio2);
 }
 
 BondRows build_bond_rows(const ParticleStore& p, PartialVolume pv,
@@ -186,21 +220,29 @@ BondRows build_bond_rows(const ParticleStore& p, PartialVolume pv,
   b.break_ratio2.assign(own.size(), HUGE_VAL);       // set by engine/physics/interactions
   std::fill(dual_only.begin(), dual_only.end(), 0);  // now the cursors of the dual-only entries
   // Pass 2: each row's own bonds at its start, in neighbour order; a dual-only entry goes after
-  // the own ones of its row, in the order threads reach it (pass 3 sorts the rows).
-#pragma omp parallel if (parallel)
+  // the own ones of its row, in the order threads reach it (pass 3 sorts the rows). Each thread
+  // interns the lengths of the own bonds of its rows in a table of its own; `team_of` notes which
+  // thread wrote a row, and dual-only entries take their index from their own side afterwards.
+  const int teams = parallel ? std::min(omp_get_max_threads(), 255) : 1;
+  std::vector<std::vector<double>> tables(static_cast<std::size_t>(teams));
+  std::vector<std::uint8_t> team_of(own.size(), 0);
+#pragma omp parallel num_threads(teams) if (parallel)
   {
     std::vector<std::int32_t> cand;
+    const int team = omp_get_thread_num();
+    LengthInterner lengths(tables[static_cast<std::size_t>(team)]);
 #pragma omp for schedule(dynamic, 256)
     for (std::int64_t i = 0; i < n; ++i) {
       const auto u = static_cast<std::size_t>(i);
       search.within(u, builder.search_radius(u), cand);
       builder.keep_bonds(u, cand);
       auto k = b.begin(u);
+      team_of[u] = static_cast<std::uint8_t>(team);
       for (const auto j : cand) {
         const auto v = static_cast<std::size_t>(j);
         const double inv = inverse_reference_length(p, u, v);
         const bool pair = builder.bonded_back(u, v);
-        b.other[k] = j, b.inv_length[k] = inv;
+        b.other[k] = j, b.length_index[k] = lengths.index_of(inv);
         b.flags[k++] =
             static_cast<std::uint8_t>(kOwn | kOwnIntact | (pair ? kDual | kDualIntact : 0));
         if (pair) continue;
@@ -208,22 +250,22 @@ BondRows build_bond_rows(const ParticleStore& p, PartialVolume pv,
 #pragma omp atomic capture
         slot = dual_only[v]++;
         const auto e = b.begin(v) + own[v] + slot;
-        b.other[e] = static_cast<std::int32_t>(i), b.inv_length[e] = inv;
+        b.other[e] = static_cast<std::int32_t>(i);
         b.flags[e] = kDual | kDualIntact;
       }
     }
   }
+  merge_team_tables(b, own, tables, team_of);
   // Pass 3: rows in neighbour order (only rows that received dual-only entries need it).
 #pragma omp parallel if (parallel)
   {
     std::vector<std::int64_t> order;
-    std::vector<std::int32_t> o;
-    std::vector<double> inv;
+    std::vector<std::int32_t> o, len;
     std::vector<std::uint8_t> fl;
 #pragma omp for schedule(dynamic, 256)
     for (std::int64_t i = 0; i < n; ++i)
       if (dual_only[static_cast<std::size_t>(i)] > 0)
-        sort_row(b, static_cast<std::size_t>(i), order, o, inv, fl);
+        sort_row(b, static_cast<std::size_t>(i), order, o, len, fl);
   }
   return b;
 }
@@ -252,13 +294,15 @@ BondRows renumbered_rows(const BondRows& rows, const std::vector<std::int32_t>& 
     auto s = static_cast<std::size_t>(b.begin(k));
     for (const auto& [j, e] : row) {
       b.other[s] = j;
-      b.inv_length[s] = rows.inv_length[e];
+      b.length_index[s] = rows.length_index[e];
       b.flags[s] = rows.flags[e];
       b.stiffness[s] = rows.stiffness[e];
       if (!b.factor.empty()) b.factor[s] = rows.factor[e];
       ++s;
     }
   }
+  b.inverse_lengths = rows.inverse_lengths;
+  canonical_lengths(b.inverse_lengths, b.length_index, b.other);
   return b;
 }
 

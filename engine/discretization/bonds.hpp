@@ -5,9 +5,10 @@
 // for none/linear, up to δ_i + r_j for exact (a particle partly inside the horizon). The own bond
 // of row i's entry j is the dual bond of row j's entry i: both rows hold its intact state and
 // reach the same decision from the same bits, so a row is only ever written by its own thread.
-// Per entry the store keeps what cannot be derived cheaply: the other particle, 1/|ξ|, the flags,
-// the pair stiffness of the entry's intact bonds (single precision, engine/physics/interactions)
-// and, near level interfaces, the own bond's stiffness factor; β is recomputed where needed.
+// Per entry the store keeps what cannot be derived cheaply: the other particle, the index of 1/|ξ|
+// in the table of distinct lengths (engine/discretization/length_table.hpp), the flags, the pair
+// stiffness of the entry's intact bonds (single precision, engine/physics/interactions) and, near
+// level interfaces, the own bond's stiffness factor; β is recomputed where needed.
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -25,7 +26,10 @@ enum BondFlags : std::uint8_t { kOwn = 1, kDual = 2, kOwnIntact = 4, kDualIntact
 struct BondRows {
   RowIndex rows;
   std::vector<std::int32_t> other;  ///< the particle at the other end (rows sorted by it)
-  std::vector<double> inv_length;   ///< 1/|ξ|: the same bits in both rows of a pair
+  /// Index of the entry's 1/|ξ| in `inverse_lengths` (the same value in both rows of a pair).
+  std::vector<std::int32_t> length_index;
+  /// The distinct values of 1/|ξ| (length_table.hpp; canonical after a build or renumbering).
+  std::vector<double> inverse_lengths;
   std::vector<std::uint8_t> flags;  ///< BondFlags
   /// φ_ij = 1 + λ of the own bond (engine/physics/interface_consistency.hpp); empty while every
   /// factor is 1 (no level interface has been corrected).
@@ -52,8 +56,12 @@ struct BondRows {
   bool has_dual(std::int64_t k) const { return flags[k] & kDual; }
   bool own_intact(std::int64_t k) const { return flags[k] & kOwnIntact; }
   bool dual_intact(std::int64_t k) const { return flags[k] & kDualIntact; }
+  /// 1/|ξ| of entry k.
+  double inverse_length(std::int64_t k) const {
+    return inverse_lengths[static_cast<std::size_t>(length_index[k])];
+  }
   /// |ξ| of entry k (every loop derives it this way, so it has the same bits everywhere).
-  double length(std::int64_t k) const { return 1.0 / inv_length[k]; }
+  double length(std::int64_t k) const { return 1.0 / inverse_length(k); }
   /// φ of the own bond of entry k (1 while no factor is stored).
   double own_factor(std::int64_t k) const { return factor.empty() ? 1.0 : factor[k]; }
   /// The entry of j in row i (rows are sorted by `other`), or −1.
@@ -95,7 +103,7 @@ BondRows build_bond_rows(const ParticleStore& particles, PartialVolume rule,
 
 /// The rows after the particles are renumbered (order[k]: old index of new particle k, new_index
 /// its inverse), packed without spare capacity, each row sorted by its new `other`; every entry
-/// keeps its length, flags, factor and stiffness.
+/// keeps its length, flags, factor and stiffness; the length table is made canonical.
 BondRows renumbered_rows(const BondRows& rows, const std::vector<std::int32_t>& order,
                          const std::vector<std::int32_t>& new_index);
 

@@ -163,7 +163,7 @@ double stable_step_of(const BondRows& b, const ParticleStore& p, std::size_t i) 
   for (auto k = b.begin(i); k < b.end(i); ++k)
     stiffness += std::abs(static_cast<double>(b.stiffness[k]) * b.stiffness_scale *
                           p.volume[static_cast<std::size_t>(b.other[k])]) *
-                 b.inv_length[k];
+                 b.inverse_length(k);
   return stiffness > 0.0 ? std::sqrt(2.0 * p.density[i] / stiffness)
                          : std::numeric_limits<double>::infinity();
 }

@@ -17,7 +17,8 @@ struct RowArrays {
   const std::int64_t* start;
   const std::int32_t* count;
   const std::int32_t* other;
-  const double* inv_length;
+  const std::int32_t* length_index;
+  const double* inverse_lengths;  ///< the table length_index points into
   const float* stiffness;
   const std::uint8_t* flags;
   const double* break_ratio2;
@@ -28,12 +29,16 @@ struct RowArrays {
       : start(b.rows.start.data()),
         count(b.rows.count.data()),
         other(b.other.data()),
-        inv_length(b.inv_length.data()),
+        length_index(b.length_index.data()),
+        inverse_lengths(b.inverse_lengths.data()),
         stiffness(b.stiffness.data()),
         flags(b.flags.data()),
         break_ratio2(b.break_ratio2.data()),
         volume(p.volume.data()),
         scale(b.stiffness_scale) {}
+
+  /// 1/|ξ| of entry k.
+  double inverse_length(std::int64_t k) const { return inverse_lengths[length_index[k]]; }
 };
 
 /// What the fused break test needs on its slow path (unused by the elastic kernel).

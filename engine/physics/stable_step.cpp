@@ -24,11 +24,11 @@ void apply_stiffness(const BondRows& il, const ParticleStore& p, const std::vect
       const auto o = static_cast<std::size_t>(il.other[k]);
       double e[Dim], ew = 0.0;
       for (int a = 0; a < Dim; ++a) {
-        e[a] = (X[a][o] - X[a][i]) * il.inv_length[k];
+        e[a] = (X[a][o] - X[a][i]) * il.inverse_length(k);
         ew += e[a] * (u[o * Dim + a] - u[i * Dim + a]);
       }
       const double scale = static_cast<double>(il.stiffness[k]) * il.stiffness_scale * p.volume[o] *
-                           il.inv_length[k] * ew;
+                           il.inverse_length(k) * ew;
       for (int a = 0; a < Dim; ++a) acc[a] += scale * e[a];
     }
     for (int a = 0; a < Dim; ++a) out[i * Dim + a] = -acc[a] / p.density[i];

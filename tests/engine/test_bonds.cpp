@@ -93,7 +93,8 @@ TEST(Bonds, BuildIsTheSameForOneAndTwoThreads) {
     const auto two = build_bond_rows(p, pv, {});
     EXPECT_EQ(one.rows.start, two.rows.start);
     EXPECT_EQ(one.other, two.other);
-    EXPECT_EQ(one.inv_length, two.inv_length);
+    EXPECT_EQ(one.length_index, two.length_index);
+    EXPECT_EQ(one.inverse_lengths, two.inverse_lengths);
     EXPECT_EQ(one.flags, two.flags);
     expect_consistent(two, p.size(), "two threads", false);
   }
@@ -173,7 +174,7 @@ TEST(Bonds, ReplacingOwnBondsKeepsTheRowsConsistentAndHoldsExactlyTheNewBonds) {
     // Lengths are those of the reference positions, as a build gives them.
     for (std::size_t i = 0; i < p.size(); ++i)
       for (auto k = b.begin(i); k < b.end(i); ++k)
-        EXPECT_EQ(b.inv_length[k],
+        EXPECT_EQ(b.inverse_length(k),
                   inverse_reference_length(p, i, static_cast<std::size_t>(b.other[k])));
   }
 }
@@ -225,11 +226,11 @@ TEST(Bonds, RenumberedRowsKeepEveryBondUnderARandomPermutation) {
     for (std::size_t i = 0; i < p.size(); ++i)
       for (auto k = b.begin(i); k < b.end(i); ++k)
         before[{new_index[i], new_index[static_cast<std::size_t>(b.other[k])]}] = {
-            b.inv_length[k], b.flags[k], b.factor[k], b.stiffness[k]};
+            b.inverse_length(k), b.flags[k], b.factor[k], b.stiffness[k]};
     for (std::size_t i = 0; i < p.size(); ++i)
       for (auto k = renumbered.begin(i); k < renumbered.end(i); ++k)
         after[{static_cast<std::int32_t>(i), renumbered.other[k]}] = {
-            renumbered.inv_length[k], renumbered.flags[k], renumbered.factor[k],
+            renumbered.inverse_length(k), renumbered.flags[k], renumbered.factor[k],
             renumbered.stiffness[k]};
     EXPECT_TRUE(before == after) << dim << "D: an entry changed or went missing";
   }

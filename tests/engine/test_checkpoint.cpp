@@ -104,5 +104,15 @@ TEST(Checkpoint, FingerprintFollowsTheParticles) {
   EXPECT_NE(setup_fingerprint(a), setup_fingerprint(b));
 }
 
+TEST(Checkpoint, TheSimulationKeepsTheFingerprintButNotThePoints) {
+  // The particles hold the points once built; a copy in the setup would cost ~48 B per particle.
+  const auto setup = pulled_plate();
+  const Simulation sim(setup);
+  EXPECT_EQ(sim.fingerprint(), setup_fingerprint(setup));
+  EXPECT_EQ(sim.setup().points.size(), 0u);
+  EXPECT_EQ(sim.setup().points.position.capacity(), 0u);
+  EXPECT_EQ(sim.particles().size(), setup.points.size());
+}
+
 }  // namespace
 }  // namespace dhpd

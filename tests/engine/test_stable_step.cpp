@@ -23,9 +23,9 @@ double dense_largest_omega2(const BondRows& il, const ParticleStore& p) {
       const auto o = static_cast<std::size_t>(il.other[k]);
       double e[3];
       for (int a = 0; a < dim; ++a)
-        e[a] = (p.reference_position[a][o] - p.reference_position[a][i]) * il.inv_length[k];
+        e[a] = (p.reference_position[a][o] - p.reference_position[a][i]) * il.inverse_length(k);
       const double c = static_cast<double>(il.stiffness[k]) * il.stiffness_scale * p.volume[o] *
-                       il.inv_length[k] / p.density[i];
+                       il.inverse_length(k) / p.density[i];
       for (int a = 0; a < dim; ++a)
         for (int b = 0; b < dim; ++b) {
           const auto row = static_cast<Eigen::Index>(i) * dim + a;

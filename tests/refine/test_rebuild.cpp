@@ -29,7 +29,7 @@ std::vector<std::vector<EntryKey>> rows_by_id(const BondRows& b, const ParticleS
   std::vector<std::vector<EntryKey>> out(p.size());
   for (std::size_t i = 0; i < p.size(); ++i) {
     for (auto k = b.begin(i); k < b.end(i); ++k)
-      out[i].emplace_back(p.id[b.other[k]], b.inv_length[k], b.flags[k], b.stiffness[k]);
+      out[i].emplace_back(p.id[b.other[k]], b.inverse_length(k), b.flags[k], b.stiffness[k]);
     std::sort(out[i].begin(), out[i].end());
   }
   return out;
@@ -54,8 +54,8 @@ std::size_t expect_equals_from_scratch(const Simulation& sim, const BondRows& ol
   refine::apply_no_healing(fresh, p, previous, born, old_b, old_p);
   for (std::size_t i = 0; i < p.size(); ++i)  // the second birth rule
     for_each_own_bond(fresh, i, [&](std::int64_t k, std::size_t j) {
-      if (!fresh.own_intact(k) ||
-          !refine::starts_overstretched(p, i, j, fresh.inv_length[k], sim.critical_stretch()[i]))
+      if (!fresh.own_intact(k) || !refine::starts_overstretched(p, i, j, fresh.inverse_length(k),
+                                                                sim.critical_stretch()[i]))
         return;
       fresh.flags[k] &= static_cast<std::uint8_t>(~kOwnIntact);
       const auto d = fresh.find(j, static_cast<std::int32_t>(i));

@@ -1,8 +1,9 @@
 // Consistency of bond rows, for from-scratch builds and after incremental edits (refinement
 // events, re-sorts): every live row is sorted by its other particle with no repeat; every entry
 // holds a bond; the own bond of row i's entry j is the dual bond of row j's entry i, with the same
-// intact state, the same 1/|ξ| and (dual-horizon) the same pair stiffness; the counters agree;
-// garbage slots (outside every live row) hold no particle and no bond.
+// intact state, the same 1/|ξ| (an index into the length table) and (dual-horizon) the same pair
+// stiffness; the counters agree; garbage slots (outside every live row) hold no particle and no
+// bond.
 #pragma once
 #include <gtest/gtest.h>
 
@@ -19,6 +20,7 @@ inline void expect_consistent(const BondRows& b, std::size_t particles,
   ASSERT_EQ(b.particles(), particles) << what;
   ASSERT_EQ(b.other.size(), static_cast<std::size_t>(b.rows.arena)) << what;
   ASSERT_EQ(b.break_ratio2.size(), particles) << what;
+  ASSERT_EQ(b.length_index.size(), b.other.size()) << what;
   std::vector<std::uint8_t> live(b.other.size(), 0);
   std::int64_t live_count = 0, own_count = 0;
   std::size_t bad_other = 0, unsorted = 0, empty = 0, intact_without_bond = 0;
@@ -27,6 +29,8 @@ inline void expect_consistent(const BondRows& b, std::size_t particles,
     for (auto k = b.begin(i); k < b.end(i); ++k) {
       const auto s = static_cast<std::size_t>(k);
       live[s] = 1;
+      ASSERT_GE(b.length_index[s], 0) << what;
+      ASSERT_LT(static_cast<std::size_t>(b.length_index[s]), b.inverse_lengths.size()) << what;
       ++live_count;
       own_count += b.has_own(k) ? 1 : 0;
       const auto j = b.other[s];
@@ -45,7 +49,7 @@ inline void expect_consistent(const BondRows& b, std::size_t particles,
       }
       state_differs += (b.has_own(k) && b.own_intact(k) != b.dual_intact(m)) +
                        (b.has_dual(k) && b.dual_intact(k) != b.own_intact(m));
-      length_differs += b.inv_length[s] != b.inv_length[static_cast<std::size_t>(m)];
+      length_differs += b.inverse_length(k) != b.inverse_length(m);
       stiffness_differs +=
           pair_stiffness && b.stiffness[s] != b.stiffness[static_cast<std::size_t>(m)];
     }

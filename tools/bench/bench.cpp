@@ -107,13 +107,15 @@ std::string phase_shares(const PhaseTimers& before, const PhaseTimers& after) {
   return out;
 }
 
-DhpdTimes time_dhpd(const BenchOptions& o, const SimulationSetup& elastic_setup,
-                    const SimulationSetup& fracture_setup, double bonds, std::ostream& out) {
+/// `make_setup(fracture)`: the body's setup, built for each run (a held setup would hold a copy
+/// of every point beside the simulation's particles).
+template <class MakeSetup>
+DhpdTimes time_dhpd(const BenchOptions& o, MakeSetup make_setup, double bonds, std::ostream& out) {
   DhpdTimes t;
   for (const int threads : o.threads) {
     omp_set_num_threads(threads);
     for (const bool fracture : {false, true}) {
-      Simulation sim(fracture ? fracture_setup : elastic_setup);
+      Simulation sim(make_setup(fracture));
       const PhaseTimers before = sim.timers();
       const double s = seconds_per_step(sim, o.steps, o.repeats);
       if (fracture && t.phases.empty()) t.phases = phase_shares(before, sim.timers());
@@ -181,10 +183,11 @@ void compare_lammps(const BenchOptions& o, const Plate& plate, double bonds, dou
 void run_bench(const BenchOptions& o, std::ostream& out) {
   const Plate plate;
   const bool on_plate = o.cells == 0;
-  const auto elastic_setup = on_plate ? plate_setup(plate, false) : lattice_setup(o, false);
-  const auto fracture_setup = on_plate ? plate_setup(plate, true) : lattice_setup(o, true);
+  const auto make_setup = [&](bool fracture) {
+    return on_plate ? plate_setup(plate, fracture) : lattice_setup(o, fracture);
+  };
   // The counts and the memory line come from one body, freed before the timed ones are built.
-  auto probe = std::make_unique<Simulation>(fracture_setup);
+  auto probe = std::make_unique<Simulation>(make_setup(true));
   const auto n = static_cast<double>(probe->particles().size());
   const auto bonds = static_cast<double>(probe->bonds().bond_count());
   if (on_plate)
@@ -201,7 +204,7 @@ void run_bench(const BenchOptions& o, std::ostream& out) {
   probe.reset();
   fmt::print(out, "\n{:<18} {:>8} {:>9} {:>16} {:>12}\n", "engine", "cores", "fracture",
              "ns/bond/core", "ms/step");
-  const auto ours = time_dhpd(o, elastic_setup, fracture_setup, bonds, out);
+  const auto ours = time_dhpd(o, make_setup, bonds, out);
   fmt::print(out, "dhpd phases (fracture on, {} thread{}): {}\n", o.threads.front(),
              o.threads.front() > 1 ? "s" : "", ours.phases);
   if (on_plate) compare_lammps(o, plate, bonds, n, ours, out);

@@ -110,7 +110,7 @@ void load_checkpoint(const std::string& path, Simulation& sim, RunState& state,
         "{}: the checkpoint was written for another scene or other --set overrides: {} (restart "
         "with the scene and overrides of the first run)",
         path, first_difference(parts.scene_text, scene_text)));
-  if (parts.fingerprint != setup_fingerprint(sim.setup()))
+  if (parts.fingerprint != sim.fingerprint())
     throw InputError(fmt::format(
         "{}: the scene's particles differ from the checkpoint's (a points file or mesh changed "
         "since the first run)",

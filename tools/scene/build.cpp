@@ -214,7 +214,7 @@ bool has_neighbour_within_horizon(const ParticleStore& p, const NeighborSearch& 
 
 /// A particle without a neighbour in its horizon has no stiffness: refused, naming its part. (One
 /// whose neighbours all lie across pre-cracks is a free fragment from the start: allowed.)
-void check_lonely(const Scene& s, const Simulation& sim) {
+void check_lonely(const Scene& s, const Simulation& sim, const std::vector<int>& part_of) {
   const auto& p = sim.particles();
   std::unique_ptr<NeighborSearch> search;  // built only when a particle has no bond
   std::vector<std::int32_t> found;
@@ -222,7 +222,7 @@ void check_lonely(const Scene& s, const Simulation& sim) {
     if (sim.bonds().own_count(i) > 0) continue;
     if (!search) search = std::make_unique<NeighborSearch>(p.reference_position, p.dim());
     if (has_neighbour_within_horizon(p, *search, i, found)) continue;
-    const auto part = sim.setup().points.part[static_cast<std::size_t>(p.id[i])];
+    const auto part = part_of[static_cast<std::size_t>(p.id[i])];
     fail(s.body[static_cast<std::size_t>(part)].where,
          fmt::format("the particle at {} has no neighbour inside its horizon {:.6g} m (spacing "
                      "{:.6g} m, horizon factor {})",
@@ -236,9 +236,11 @@ void check_lonely(const Scene& s, const Simulation& sim) {
 }  // namespace
 
 std::unique_ptr<Simulation> build_simulation(const Scene& s) {
-  auto sim = std::make_unique<Simulation>(build_setup(s));
+  auto setup = build_setup(s);
+  const auto part_of = setup.points.part;  // the simulation keeps no points
+  auto sim = std::make_unique<Simulation>(std::move(setup));
   check_tips(s, sim->particles());
-  check_lonely(s, *sim);
+  check_lonely(s, *sim, part_of);
   if (s.time.check_dt && !sim->dt_is_stable())
     fail({s.time.where.file, s.time.where.line, "time.dt"},
          fmt::format("{:.6g} s is above the stable time step {:.6g} s", sim->dt(),
