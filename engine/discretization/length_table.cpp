@@ -17,21 +17,51 @@ std::uint64_t bits_of(double v) {
 }
 }  // namespace
 
-LengthInterner::LengthInterner(std::vector<double>& table) : table_(table) {
+namespace {
+/// No value has these bits (a negative NaN; lengths are positive and finite).
+constexpr std::uint64_t kEmpty = ~std::uint64_t{0};
+}  // namespace
+
+LengthInterner::LengthInterner(std::vector<double>& table)
+    : table_(table), keys_(1024, kEmpty), index_(1024, 0) {
   if (table.size() > kSeedLimit) return;
-  for (std::size_t k = 0; k < table.size(); ++k)
-    where_.emplace(bits_of(table[k]), static_cast<std::int32_t>(k));
+  for (std::size_t k = 0; k < table.size(); ++k) {
+    const auto bits = bits_of(table[k]);
+    const auto s = slot_of(bits);
+    if (keys_[s] != kEmpty) continue;  // a repeated value: the first one's index
+    keys_[s] = bits, index_[s] = static_cast<std::int32_t>(k);
+    if (2 * ++used_ > keys_.size()) grow();
+  }
+}
+
+std::size_t LengthInterner::slot_of(std::uint64_t bits) const {
+  const std::size_t mask = keys_.size() - 1;
+  std::size_t s = static_cast<std::size_t>((bits * 0x9E3779B97F4A7C15ull) >> 20) & mask;
+  while (keys_[s] != kEmpty && keys_[s] != bits) s = (s + 1) & mask;
+  return s;
+}
+
+void LengthInterner::grow() {
+  std::vector<std::uint64_t> keys(2 * keys_.size(), kEmpty);
+  std::vector<std::int32_t> index(keys.size(), 0);
+  keys_.swap(keys), index_.swap(index);
+  for (std::size_t s = 0; s < keys.size(); ++s)
+    if (keys[s] != kEmpty) {
+      const auto t = slot_of(keys[s]);
+      keys_[t] = keys[s], index_[t] = index[s];
+    }
 }
 
 std::int32_t LengthInterner::index_of(double inverse_length) {
-  const auto [it, added] =
-      where_.emplace(bits_of(inverse_length), static_cast<std::int32_t>(table_.size()));
-  if (added) {
-    if (table_.size() >= static_cast<std::size_t>(INT32_MAX))
-      throw EngineError("more than 2^31 distinct bond lengths");
-    table_.push_back(inverse_length);
-  }
-  return it->second;
+  const auto bits = bits_of(inverse_length);
+  const auto s = slot_of(bits);
+  if (keys_[s] == bits) return index_[s];
+  if (table_.size() >= static_cast<std::size_t>(INT32_MAX))
+    throw EngineError("more than 2^31 distinct bond lengths");
+  keys_[s] = bits, index_[s] = static_cast<std::int32_t>(table_.size());
+  table_.push_back(inverse_length);
+  if (2 * ++used_ > keys_.size()) grow();
+  return index_[slot_of(bits)];
 }
 
 void canonical_lengths(std::vector<double>& table, std::vector<std::int32_t>& index,
