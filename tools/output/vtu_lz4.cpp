@@ -24,6 +24,10 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr std::size_t kBlock = 32768;  ///< uncompressed bytes per block (VTK's default)
+/// LZ4's acceleration: on a default-scene frame's displacement and velocity 4 takes 0.30 ms
+/// against 0.53 ms at 1 (VTK's choice) for 72 % of the raw size against 71 %; 8 and 16 save no
+/// more time and compress less, 64 leaves 93 %.
+constexpr int kAcceleration = 4;
 
 /// Two 64-bit hashes of the bytes, word by word (the tail zero-padded) with different mixing:
 /// an array is taken as unchanged only when both and its size agree.
@@ -110,8 +114,8 @@ std::vector<char> lz4_appended(const char* data, std::size_t bytes) {
   std::size_t used = 0;
   for (std::size_t b = 0; b < blocks; ++b) {
     const std::size_t size = std::min(kBlock, bytes - b * kBlock);
-    const int n =
-        LZ4_compress_default(data + b * kBlock, body.data() + used, static_cast<int>(size), bound);
+    const int n = LZ4_compress_fast(data + b * kBlock, body.data() + used, static_cast<int>(size),
+                                    bound, kAcceleration);
     if (n <= 0) throw IoError("LZ4 could not compress a block of a frame");
     header.push_back(static_cast<std::uint64_t>(n));
     used += static_cast<std::size_t>(n);
