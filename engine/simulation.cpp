@@ -126,13 +126,14 @@ BondConstants Simulation::bond_constants() const {
   return {setup_.model, setup_.partial_volume, p_, C_, s0_};
 }
 
-void Simulation::compute_forces(bool with_fracture, std::vector<double>* row_energy) {
+void Simulation::compute_forces(bool with_fracture, std::vector<double>* row_energy,
+                                const SideTask* side) {
   {
     auto t = timers_.scope(Phase::Forces);
     if (with_fracture)
-      broken_ += force_and_break(bonds_, p_, bond_constants(), row_energy, &kernel_points_);
+      broken_ += force_and_break(bonds_, p_, bond_constants(), row_energy, &kernel_points_, side);
     else
-      internal_force_density(bonds_, p_, nullptr, row_energy, &kernel_points_);
+      internal_force_density(bonds_, p_, nullptr, row_energy, &kernel_points_, side);
   }
   auto t = timers_.scope(Phase::Loads);
   for (std::size_t k = 0; k < loads_.loaded.size(); ++k)
@@ -196,7 +197,8 @@ void Simulation::step(StepExtras extras) {
     }
     kernel_points_.fresh = true;
   }
-  compute_forces(setup_.effects.fracture, extras.strain_energy ? &fused_energy_.rows : nullptr);
+  compute_forces(setup_.effects.fracture, extras.strain_energy ? &fused_energy_.rows : nullptr,
+                 extras.side_task);
   {
     auto t = timers_.scope(Phase::Integrate);
 #pragma omp parallel for schedule(static) if (n >= kParallelMinParticles)

@@ -5,6 +5,7 @@
 #include <optional>
 #include <vector>
 
+#include "engine/base/parallel.hpp"
 #include "engine/base/timers.hpp"
 #include "engine/discretization/bonds.hpp"
 #include "engine/discretization/particles.hpp"
@@ -111,6 +112,9 @@ class Simulation {
     /// The strain energy of the state the step leaves, from its force pass (energies() then
     /// needs no pass over the bonds; the same bits either way).
     bool strain_energy = false;
+    /// Work of the caller's that one thread does during the step's force pass (SideTask), e.g.
+    /// encoding an output frame from its own copy of the fields.
+    const SideTask* side_task = nullptr;
   };
   void step(StepExtras extras);
   void step() { step(StepExtras{}); }
@@ -206,7 +210,8 @@ class Simulation {
   void update_bond_constants(const std::vector<std::int32_t>& slots);
   /// Internal force densities plus body forces; with fracture, bonds break in the same pass.
   /// With `row_energy`, the pass also leaves each row's energy sum there (force kernels, Energy).
-  void compute_forces(bool with_fracture = false, std::vector<double>* row_energy = nullptr);
+  void compute_forces(bool with_fracture = false, std::vector<double>* row_energy = nullptr,
+                      const SideTask* side = nullptr);
   void enforce_prescribed_velocity();
   double boundary_power() const;
   /// Throws InstabilityError; a NaN `energy` reports a non-finite state.

@@ -43,7 +43,8 @@ void damage_of(const BondRows& b, ParticleStore& p, PartialVolume rule, std::siz
 template <int Dim, bool Fracture, bool Energy>
 std::int64_t force_rows(const BondRows& rows, const kernel::Breaking& w, ParticleStore& p,
                         const std::vector<std::int32_t>* subset, double* energy,
-                        kernel::PackedPoints* points) {
+                        kernel::PackedPoints* points, const SideTask* side) {
+  const bool has_side = side != nullptr && static_cast<bool>(*side);
   kernel::PackedPoints local;
   auto& packed_points = points ? *points : local;
   if (!packed_points.fresh) kernel::pack_points(p, packed_points.xyzv);
@@ -64,12 +65,20 @@ std::int64_t force_rows(const BondRows& rows, const kernel::Breaking& w, Particl
   };
   std::int64_t broken = 0;
   if (subset) {
+    if (has_side) (*side)();
     for (const auto i : *subset) broken += force_row(i);
     return broken;
   }
   const auto n = static_cast<std::int64_t>(p.size());
-#pragma omp parallel for schedule(dynamic, 512) reduction(+ : broken) if (n >= kParallelMinParticles)
-  for (std::int64_t i = 0; i < n; ++i) broken += force_row(i);
+#pragma omp parallel reduction(+ : broken) if (n >= kParallelMinParticles)
+  {
+    if (has_side) {
+#pragma omp single nowait
+      (*side)();
+    }
+#pragma omp for schedule(dynamic, 512) nowait
+    for (std::int64_t i = 0; i < n; ++i) broken += force_row(i);
+  }
   return broken;
 }
 
@@ -77,10 +86,10 @@ std::int64_t force_rows(const BondRows& rows, const kernel::Breaking& w, Particl
 template <int Dim, bool Fracture>
 std::int64_t force_rows_with(const BondRows& rows, const kernel::Breaking& w, ParticleStore& p,
                              const std::vector<std::int32_t>* subset, std::vector<double>* energy,
-                             kernel::PackedPoints* points) {
-  if (!energy) return force_rows<Dim, Fracture, false>(rows, w, p, subset, nullptr, points);
+                             kernel::PackedPoints* points, const SideTask* side) {
+  if (!energy) return force_rows<Dim, Fracture, false>(rows, w, p, subset, nullptr, points, side);
   energy->resize(p.size());
-  return force_rows<Dim, Fracture, true>(rows, w, p, subset, energy->data(), points);
+  return force_rows<Dim, Fracture, true>(rows, w, p, subset, energy->data(), points, side);
 }
 
 template <int Dim>
@@ -127,17 +136,18 @@ double strain_energy_of_row_sums(std::vector<double>& row_sums, const ParticleSt
 
 void internal_force_density(const BondRows& b, ParticleStore& p,
                             const std::vector<std::int32_t>* rows, std::vector<double>* row_energy,
-                            kernel::PackedPoints* points) {
+                            kernel::PackedPoints* points, const SideTask* side) {
   with_dim(p.dim(), [&](auto d) {
-    force_rows_with<d(), false>(b, kernel::Breaking{}, p, rows, row_energy, points);
+    force_rows_with<d(), false>(b, kernel::Breaking{}, p, rows, row_energy, points, side);
   });
 }
 
 std::int64_t force_and_break(BondRows& b, ParticleStore& p, const BondConstants& c,
-                             std::vector<double>* row_energy, kernel::PackedPoints* points) {
+                             std::vector<double>* row_energy, kernel::PackedPoints* points,
+                             const SideTask* side) {
   const kernel::Breaking w{&b, &c};
   return with_dim(p.dim(), [&](auto d) {
-    return force_rows_with<d(), true>(b, w, p, nullptr, row_energy, points);
+    return force_rows_with<d(), true>(b, w, p, nullptr, row_energy, points, side);
   });
 }
 

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "engine/base/parallel.hpp"
 #include "engine/discretization/particles.hpp"
 #include "engine/physics/force_kernel.hpp"
 #include "engine/physics/interactions.hpp"
@@ -22,7 +23,7 @@ namespace dhpd {
 void internal_force_density(const BondRows& bonds, ParticleStore& p,
                             const std::vector<std::int32_t>* rows = nullptr,
                             std::vector<double>* row_energy = nullptr,
-                            kernel::PackedPoints* points = nullptr);
+                            kernel::PackedPoints* points = nullptr, const SideTask* side = nullptr);
 
 /// internal_force_density of every row with bond breaking fused in: each intact bond with
 /// s ≥ s0 of its owner (no_fail owners never break) is marked broken in both rows of its pair
@@ -30,10 +31,12 @@ void internal_force_density(const BondRows& bonds, ParticleStore& p,
 /// summed. Every particle that lost an own bond gets its p.damage refreshed in the same pass, so
 /// damage stays current as long as edits recompute it (Simulation does). Returns the number of
 /// bonds broken by this call. `c` describes the same rows and particles. With `row_energy`, as
-/// internal_force_density: the row sums after the pass's breaks.
+/// internal_force_density: the row sums after the pass's breaks. Both run `side` (when given and
+/// not empty) once, on one thread of the pass (SideTask).
 std::int64_t force_and_break(BondRows& bonds, ParticleStore& p, const BondConstants& c,
                              std::vector<double>* row_energy = nullptr,
-                             kernel::PackedPoints* points = nullptr);
+                             kernel::PackedPoints* points = nullptr,
+                             const SideTask* side = nullptr);
 
 /// φ_i = 1 − Σ μ β V_j / Σ β V_j over own bonds (docs/theory.md §8); written to p.damage.
 /// With `subset`, only those particles are updated.

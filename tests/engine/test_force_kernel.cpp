@@ -5,6 +5,9 @@
 // bond states; the damage it refreshes equals a full pass; and the plain and AVX2 builds give the
 // same bits.
 #include <gtest/gtest.h>
+#include <omp.h>
+
+#include <atomic>
 
 #include <algorithm>
 #include <cmath>
@@ -45,6 +48,40 @@ Stretched stretched_cloud(int dim, std::uint64_t seed, ForceModel model = ForceM
 }
 
 class ForceKernel : public ::testing::TestWithParam<int> {};
+
+TEST(ForceKernelSideTask, RunsOnceAndLeavesThePassAsItWas) {
+  // More than kParallelMinParticles particles, so the pass runs on a team of threads.
+  const std::size_t n = 5000;
+  const double h = 0.015;
+  Stretched s{test::random_cloud(2, n, h, 2.0, 3.015, 77), {}};
+  Section sec;
+  sec.dim = 2;
+  s.a = test::assemble(s.p, ForceModel::DualHorizon, PartialVolume::Linear, {1e9, 1000, 1.0}, sec);
+  s.a.s0.assign(n, 0.02);
+  for (std::size_t i = 0; i < n; ++i)
+    for (int d = 0; d < 2; ++d) test::set_displacement(s.p, d, i, 0.04 * h * std::sin(7.0 * i + d));
+  s.a.refresh(s.p);
+  for (const int threads : {1, 2}) {
+    omp_set_num_threads(threads);
+    auto plain = s, shared = s;
+    std::atomic<int> runs{0};
+    const SideTask side = [&runs] { ++runs; };
+    const auto broken = force_and_break(plain.a.bonds, plain.p, plain.constants());
+    ASSERT_GT(broken, 0);
+    EXPECT_EQ(
+        force_and_break(shared.a.bonds, shared.p, shared.constants(), nullptr, nullptr, &side),
+        broken);
+    EXPECT_EQ(runs.load(), 1) << threads << " threads";
+    EXPECT_EQ(plain.a.bonds.flags, shared.a.bonds.flags);
+    for (int d = 0; d < 2; ++d)
+      EXPECT_EQ(0, std::memcmp(plain.p.force_density[d].data(), shared.p.force_density[d].data(),
+                               n * sizeof(double)));
+    internal_force_density(shared.a.bonds, shared.p, nullptr, nullptr, nullptr, &side);
+    const std::vector<std::int32_t> some = {3, 99, 4000};
+    internal_force_density(shared.a.bonds, shared.p, &some, nullptr, nullptr, &side);
+    EXPECT_EQ(runs.load(), 3) << "once per pass, on a subset of rows too";
+  }
+}
 
 TEST_P(ForceKernel, StiffnessIsThePairsBondsOnceWithTheSameBitsInBothRows) {
   for (const auto model : {ForceModel::DualHorizon, ForceModel::ClassicalVariable}) {

@@ -1,6 +1,8 @@
-// Frames written in the background (tools/output/background_frames.hpp): the same files, byte for
-// byte, as frames written at once; a frame that cannot be written is reported by the next call and
-// stops the series.
+// Frames written in the background (tools/output/background_frames.hpp), on a thread of their own
+// or as the side task of the next force pass: the same files, byte for byte, as frames written at
+// once; a shared frame waits for its side task (or the next write or drain) and is written once; a
+// frame that cannot be written is reported by the next call and stops the series.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -25,37 +27,56 @@ std::vector<PointField> fields_of(int frame, std::size_t n) {
   return {{"velocity", 3, v}, {"id", 1, id}};
 }
 
-void write_series(const std::filesystem::path& dir, bool background) {
-  BackgroundFrames frames(FrameSeries(dir.string(), "plate"), background);
+/// Four frames; in Shared mode the side task of frames 0 and 2 runs as a force pass would run it,
+/// frames 1 and 3 are finished by the next write and by entries().
+void write_series(const std::filesystem::path& dir, BackgroundFrames::Mode mode) {
+  BackgroundFrames frames(FrameSeries(dir.string(), "plate"), mode);
   const std::size_t n = 500;
   for (int k = 0; k < 4; ++k) {
     std::vector<double> points(3 * n);
     for (std::size_t i = 0; i < 3 * n; ++i) points[i] = 1e-4 * static_cast<double>(i);
     frames.write(1e-6 * k, 10 * k, points, fields_of(k, n));
+    const auto name = fmt::format("plate_{:06d}.vtu", k);
+    const auto* task = frames.side_task();
+    EXPECT_EQ(task != nullptr, mode == BackgroundFrames::Mode::Shared);
+    if (mode == BackgroundFrames::Mode::Shared) {
+      EXPECT_FALSE(std::filesystem::exists(dir / name)) << "a shared frame waits for its task";
+      if (k % 2 == 0) {
+        (*task)();
+        EXPECT_TRUE(std::filesystem::exists(dir / name));
+        EXPECT_EQ(frames.side_task(), nullptr) << "nothing left in flight";
+      }
+    }
   }
   EXPECT_EQ(frames.entries().size(), 4u);
 }
 
 TEST(BackgroundFrames, WritesTheFilesOfFramesWrittenAtOnce) {
   test::TempDir tmp;
-  write_series(tmp.path() / "background", true);
-  write_series(tmp.path() / "at_once", false);
-  for (const auto* name : {"plate_000000.vtu", "plate_000003.vtu", "plate.pvd"})
-    EXPECT_EQ(test::read_file(tmp.path() / "background" / name),
-              test::read_file(tmp.path() / "at_once" / name))
-        << name;
+  write_series(tmp.path() / "background", BackgroundFrames::Mode::Thread);
+  write_series(tmp.path() / "shared", BackgroundFrames::Mode::Shared);
+  write_series(tmp.path() / "at_once", BackgroundFrames::Mode::Now);
+  for (const auto* name : {"plate_000000.vtu", "plate_000001.vtu", "plate_000002.vtu",
+                           "plate_000003.vtu", "plate.pvd"})
+    for (const auto* mode : {"background", "shared"})
+      EXPECT_EQ(test::read_file(tmp.path() / mode / name),
+                test::read_file(tmp.path() / "at_once" / name))
+          << mode << " " << name;
 }
 
 TEST(BackgroundFrames, AFailedFrameIsReportedAndStopsTheSeries) {
-  test::TempDir tmp;
-  const auto dir = tmp.path() / "frames";
-  BackgroundFrames frames(FrameSeries(dir.string(), "plate"), true);
-  std::filesystem::create_directories(dir / "plate_000000.vtu");  // the frame's name is taken
-  frames.write(0.0, 0, std::vector<double>(3, 0.0), fields_of(0, 1));
-  EXPECT_THROW(frames.drain(), IoError);
-  EXPECT_NE(frames.drain_quietly().find("plate_000000.vtu"), std::string::npos);
-  EXPECT_THROW(frames.write(1.0, 1, std::vector<double>(3, 0.0), fields_of(1, 1)), IoError);
-  EXPECT_FALSE(std::filesystem::exists(dir / "plate_000001.vtu"));
+  for (const auto mode : {BackgroundFrames::Mode::Thread, BackgroundFrames::Mode::Shared}) {
+    test::TempDir tmp;
+    const auto dir = tmp.path() / "frames";
+    BackgroundFrames frames(FrameSeries(dir.string(), "plate"), mode);
+    std::filesystem::create_directories(dir / "plate_000000.vtu");  // the frame's name is taken
+    frames.write(0.0, 0, std::vector<double>(3, 0.0), fields_of(0, 1));
+    if (const auto* task = frames.side_task()) (*task)();  // the error stays with the frames
+    EXPECT_THROW(frames.drain(), IoError);
+    EXPECT_NE(frames.drain_quietly().find("plate_000000.vtu"), std::string::npos);
+    EXPECT_THROW(frames.write(1.0, 1, std::vector<double>(3, 0.0), fields_of(1, 1)), IoError);
+    EXPECT_FALSE(std::filesystem::exists(dir / "plate_000001.vtu"));
+  }
 }
 
 }  // namespace

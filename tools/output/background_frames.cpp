@@ -21,6 +21,8 @@ struct BackgroundFrames::Worker {
 
   explicit Worker(FrameSeries s) : series(std::move(s)) {}
   FrameSeries series;
+  bool shared = false;
+  SideTask task;  ///< Shared: writes the pending frame (set once the worker has its address)
   std::mutex mutex;
   std::condition_variable changed;
   std::optional<Frame> pending;  ///< handed over, not yet written
@@ -48,6 +50,19 @@ struct BackgroundFrames::Worker {
       if (error) stop = true;  // no frame after a failed one
     }
   }
+  /// Shared: writes the pending frame here and now, keeping its error (no lock: a shared frame
+  /// is written by the force pass, while the thread that owns the frames waits for the pass).
+  void write_pending() noexcept {
+    if (!pending) return;
+    Frame f = std::move(*pending);
+    pending.reset();
+    if (error) return;
+    try {
+      series.write(f.time, f.step, f.points, f.fields);
+    } catch (...) {
+      error = std::current_exception();
+    }
+  }
   /// Waits until nothing is in flight (lock held by the caller).
   void wait_idle(std::unique_lock<std::mutex>& lock) {
     changed.wait(lock, [&] { return !pending.has_value(); });
@@ -58,14 +73,19 @@ struct BackgroundFrames::Worker {
   }
 };
 
-BackgroundFrames::BackgroundFrames(FrameSeries series, bool background)
+BackgroundFrames::BackgroundFrames(FrameSeries series, Mode mode)
     : w_(std::make_unique<Worker>(std::move(series))) {
-  if (background) w_->thread = std::thread([w = w_.get()] { w->run(); });
+  if (mode == Mode::Thread) w_->thread = std::thread([w = w_.get()] { w->run(); });
+  if (mode == Mode::Shared) {
+    w_->shared = true;
+    w_->task = [w = w_.get()] { w->write_pending(); };
+  }
 }
 
 BackgroundFrames::BackgroundFrames(BackgroundFrames&&) noexcept = default;
 
 BackgroundFrames::~BackgroundFrames() {
+  if (w_ && w_->shared) w_->write_pending();
   if (!w_ || !w_->thread.joinable()) return;
   {
     std::lock_guard lock(w_->mutex);
@@ -77,6 +97,12 @@ BackgroundFrames::~BackgroundFrames() {
 
 void BackgroundFrames::write(double time, std::int64_t step, std::vector<double> points,
                              std::vector<PointField> fields) {
+  if (w_->shared) {
+    w_->write_pending();
+    if (w_->error) std::rethrow_exception(w_->error);
+    w_->pending = Worker::Frame{time, step, std::move(points), std::move(fields)};
+    return;
+  }
   if (!w_->thread.joinable()) {
     w_->series.write(time, step, points, fields);
     return;
@@ -87,7 +113,16 @@ void BackgroundFrames::write(double time, std::int64_t step, std::vector<double>
   w_->changed.notify_all();
 }
 
+const SideTask* BackgroundFrames::side_task() const {
+  return w_->shared && w_->pending ? &w_->task : nullptr;
+}
+
 void BackgroundFrames::drain() {
+  if (w_->shared) {
+    w_->write_pending();
+    if (w_->error) std::rethrow_exception(w_->error);
+    return;
+  }
   if (!w_->thread.joinable()) return;
   std::unique_lock lock(w_->mutex);
   w_->rethrow(lock);

@@ -1,6 +1,7 @@
-// Frames written on a thread of their own (docs/outputs.md, "Frames in the background"): the run
-// hands a frame over with its own copy of the points and fields and goes on stepping while VTK
-// builds, compresses and writes it. Content and file names are those of FrameSeries::write.
+// Frames written while the run goes on (docs/outputs.md, "Frames in the background"): the run
+// hands a frame over with its own copy of the points and fields and goes on stepping while the
+// frame is encoded, compressed and written, either on a thread of its own or by one thread of the
+// next step's force pass (a SideTask). Content and file names are those of FrameSeries::write.
 #pragma once
 #include <cstdint>
 #include <memory>
@@ -8,23 +9,34 @@
 #include <utility>
 #include <vector>
 
+#include "engine/base/parallel.hpp"
 #include "tools/output/vtk_writer.hpp"
 
 namespace dhpd::io {
 
-/// At most one frame is in flight: write() waits for the previous frame before handing over the
-/// next, so memory holds one extra frame at most and frames land in order. An error writing a
-/// frame (IoError) is thrown by the next write(), drain() or entries(); no later frame is
-/// written after it. With `background` false every write() writes at once (the same files).
+/// At most one frame is in flight: write() waits for (or finishes) the previous frame before
+/// handing over the next, so memory holds one extra frame at most and frames land in order. An
+/// error writing a frame (IoError) is thrown by the next write(), drain() or entries(); no later
+/// frame is written after it.
 class BackgroundFrames {
  public:
-  BackgroundFrames(FrameSeries series, bool background);
+  /// Where a frame handed over is written: at once (Now), on a thread of its own (Thread: for a
+  /// spare core), or by the next step's force pass (Shared: pass side_task() to the step; for a
+  /// team on every core, where a thread of its own would take a core from the team).
+  enum class Mode { Now, Thread, Shared };
+  BackgroundFrames(FrameSeries series, Mode mode);
+  /// Thread when `background`, else Now.
+  BackgroundFrames(FrameSeries series, bool background)
+      : BackgroundFrames(std::move(series), background ? Mode::Thread : Mode::Now) {}
   BackgroundFrames(BackgroundFrames&&) noexcept;
   BackgroundFrames& operator=(BackgroundFrames&&) = delete;
   ~BackgroundFrames();  ///< waits for the frame in flight; its error is dropped (call drain())
 
   void write(double time, std::int64_t step, std::vector<double> points,
              std::vector<PointField> fields);
+  /// Shared: the work of the frame in flight, for one thread of the next force pass (nullptr when
+  /// none is; valid until the next call of any other member). Other modes: nullptr.
+  const SideTask* side_task() const;
   /// Waits until every frame handed over is on disk; throws the error of a failed one.
   void drain();
   /// drain() that returns the error message instead of throwing (empty when none).

@@ -147,7 +147,7 @@ void time_loop(RunContext& ctx, io::Progress& progress) {
     // A step that a history row or frame follows computes its strain energy in its force pass.
     const bool records =
         k % ctx.scene.output.history_every == 0 || schedule.frame_due(k, sim.time() + sim.dt());
-    sim.step({.strain_energy = records});
+    sim.step({.strain_energy = records, .side_task = ctx.frames.side_task()});
     // A signal already caught starts no refinement event: the run stops after this step.
     if (hook && hook->refiner.due(k) && !signals.caught()) {
       try {
@@ -251,11 +251,17 @@ RunContext open_outputs(const scene::Scene& s, Simulation& sim, const fs::path& 
   const auto compression = s.output.compression == "zlib"   ? io::Compression::zlib
                            : s.output.compression == "none" ? io::Compression::none
                                                             : io::Compression::lz4;
-  // Frames in the background unless the machine has one core only (nothing to overlap with).
-  const bool background = std::thread::hardware_concurrency() > 1;
+  // Frames while the run goes on: by one thread of the next step's force pass when the team has
+  // every core (a thread of their own would take a core from it), on a thread of their own when a
+  // core is spare, at once on one core (docs/outputs.md, "Frames in the background").
+  const auto cores = static_cast<int>(std::thread::hardware_concurrency());
+  const int team = omp_get_max_threads();
+  const auto frame_mode = team > 1 && team >= cores ? io::BackgroundFrames::Mode::Shared
+                          : cores > 1               ? io::BackgroundFrames::Mode::Thread
+                                                    : io::BackgroundFrames::Mode::Now;
   RunContext ctx{s, sim,
                  io::BackgroundFrames(io::FrameSeries(dir.string(), s.name, materials, compression),
-                                      background),
+                                      frame_mode),
                  io::HistoryWriter((dir / "history.csv").string(), resumed), output_field_names(s)};
   if (resumed) ctx.frames.resume(state.frames);
   ctx.state = &state;
