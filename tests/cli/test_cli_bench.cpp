@@ -95,3 +95,31 @@ TEST_F(CliTest, CheckAndSummaryReportTheAllocatedBytes) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST_F(CliTest, BenchOutputsTimesASceneAgainstItselfWithoutOutputs) {
+  const auto o = dhpd({"bench", "--outputs", "--repeats", "3", "--scene", "plate.yaml"});
+  ASSERT_EQ(o.code, 0) << o.err;
+  std::smatch full, bare, ratio, share;
+  const std::string number = R"(\s+([0-9.]+)\s+([0-9.]+)\s+([0-9.]+))";
+  ASSERT_TRUE(std::regex_search(o.out, full, std::regex("as the scene is" + number))) << o.out;
+  ASSERT_TRUE(std::regex_search(
+      o.out, bare, std::regex("one frame; no history, measurement, checkpoint" + number)));
+  ASSERT_TRUE(std::regex_search(o.out, ratio, std::regex("ratio, pair by pair" + number)));
+  ASSERT_TRUE(std::regex_search(
+      o.out, share,
+      std::regex(R"(outputs and diagnostics: (-?[0-9.]+) % of the run's wall time)")));
+  for (const auto* m : {&full, &bare, &ratio}) {  // median within [min, max], all > 0
+    EXPECT_GT(std::stod((*m)[2]), 0.0);
+    EXPECT_LE(std::stod((*m)[2]), std::stod((*m)[1]) + 1e-3);
+    EXPECT_LE(std::stod((*m)[1]), std::stod((*m)[3]) + 1e-3);
+  }
+  EXPECT_NEAR(std::stod(share[1]), 100.0 * (1.0 - 1.0 / std::stod(ratio[1])), 0.2);
+  // A scene that cannot be read is refused before anything runs, naming it.
+  const auto bad = dhpd({"bench", "--outputs", "--scene", "missing.yaml"});
+  EXPECT_EQ(bad.code, 2) << bad.out << bad.err;
+  EXPECT_NE(bad.err.find("missing.yaml"), std::string::npos) << bad.err;
+}
+
+}  // namespace

@@ -17,6 +17,8 @@ struct BenchOptions {
   double horizon_factor = 3.015;
   bool refinement = false;      ///< time refinement events instead (bench_refinement.cpp)
   std::string lammps = "auto";  ///< auto (when lmp is on PATH), off, or the lmp command
+  bool outputs = false;  ///< time a scene's outputs and diagnostics instead (bench_outputs.cpp)
+  std::string scene = "cases/branching_plate_uniform.yaml";  ///< the scene of `outputs`
 };
 
 /// Runs the benchmark and prints a table (ns per directed bond per core, bytes per particle).
@@ -24,5 +26,10 @@ void run_bench(const BenchOptions& options, std::ostream& out);
 
 /// Times one refinement event on the same refined set in bodies of N, 4N and 16N particles.
 void run_refinement_bench(const BenchOptions& options, std::ostream& out);
+
+/// Times `options.scene` as it is against the same scene with one frame and no history rows,
+/// crack measurement or checkpoint: `repeats` pairs of whole `dhpd run` processes (the binary
+/// running this), alternating, after a warm-up pair; prints medians and the pairs' ratio.
+void run_outputs_bench(const BenchOptions& options, std::ostream& out);
 
 }  // namespace dhpd

@@ -4,6 +4,8 @@
 // sqrt(2ρ / Σ_j V_j c / |ξ_j|) over an interior particle's family (docs/theory.md §9).
 #include "tools/bench/lammps_deck.hpp"
 
+#include "tools/bench/child_process.hpp"
+
 #include <fcntl.h>
 #include <fmt/core.h>
 #include <sys/resource.h>
@@ -41,31 +43,6 @@ double inverse_length_sum(double factor) {
         if (r > 0 && r <= factor) sum += 1.0 / r;
       }
   return sum;
-}
-
-/// Runs argv with stdout and stderr into `log`; returns the exit status (−1: not started) and
-/// the children's peak resident set size.
-int run_child(const std::vector<std::string>& argv, const std::filesystem::path& log,
-              long& peak_rss_bytes) {
-  std::vector<char*> args;
-  for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
-  args.push_back(nullptr);
-  const pid_t pid = fork();
-  if (pid < 0) return -1;
-  if (pid == 0) {
-    const int fd = open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    if (fd >= 0) dup2(fd, 1), dup2(fd, 2);
-    setenv("OMP_NUM_THREADS", "1", 1);
-    execvp(args[0], args.data());
-    _exit(127);
-  }
-  int status = 0;
-  rusage usage{};
-  if (wait4(pid, &status, 0, &usage) < 0) return -1;
-  rusage children{};
-  getrusage(RUSAGE_CHILDREN, &children);  // mpirun's ranks are grandchildren
-  peak_rss_bytes = std::max(usage.ru_maxrss, children.ru_maxrss) * 1024L;
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
 }  // namespace
@@ -117,7 +94,8 @@ std::optional<LammpsRun> run_lammps(const std::string& command, const Plate& pla
                         std::string("-log"), std::string("none")})
     argv.push_back(a);
   LammpsRun run;
-  const int status = run_child(argv, dir / "lmp.out", run.peak_rss_bytes);
+  const int status =
+      run_child(argv, dir / "lmp.out", run.peak_rss_bytes, {{"OMP_NUM_THREADS", "1"}});
   std::ifstream in(dir / "lmp.out");
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   std::error_code ec;

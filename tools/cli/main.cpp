@@ -120,6 +120,11 @@ int main(int argc, char** argv) {
                     "auto: run LAMMPS (lmp) beside dhpd when installed; off; or the lmp command");
   bench->add_flag("--refinement", bench_opt.refinement,
                   "time refinement events on the same refined set in bodies of N, 4N, 16N");
+  bench->add_flag("--outputs", bench_opt.outputs,
+                  "time a scene's outputs and diagnostics: the scene against itself with one "
+                  "frame and no history, measurement or checkpoint (--repeats pairs of runs)");
+  bench->add_option("--scene", bench_opt.scene,
+                    "the scene of --outputs (default cases/branching_plate_uniform.yaml)");
 
   dhpd::PlotOptions plot_opt;
   auto* plot = app.add_subcommand(
@@ -179,7 +184,9 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (*bench) {
-      if (bench_opt.refinement)
+      if (bench_opt.outputs)
+        dhpd::run_outputs_bench(bench_opt, std::cout);
+      else if (bench_opt.refinement)
         dhpd::run_refinement_bench(bench_opt, std::cout);
       else
         dhpd::run_bench(bench_opt, std::cout);
