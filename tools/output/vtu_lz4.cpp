@@ -29,24 +29,41 @@ constexpr std::size_t kBlock = 32768;  ///< uncompressed bytes per block (VTK's 
 /// more time and compress less, 64 leaves 93 %.
 constexpr int kAcceleration = 4;
 
-/// Two 64-bit hashes of the bytes, word by word (the tail zero-padded) with different mixing:
-/// an array is taken as unchanged only when both and its size agree.
+/// Two 64-bit hashes of the bytes with different mixing, each over four interleaved lanes of
+/// 8-byte words (so the multiplications of one word do not wait for the previous word's: about
+/// four times the speed of one lane), the tail zero-padded: an array is taken as unchanged only
+/// when both hashes and its size agree.
 void hash_bytes(const char* data, std::size_t bytes, std::uint64_t out[2]) {
-  std::uint64_t a = 0xcbf29ce484222325ULL ^ bytes, b = 0x9e3779b97f4a7c15ULL + bytes;
+  constexpr std::uint64_t kP = 0x100000001b3ULL, kQ = 0xc2b2ae3d27d4eb4fULL,
+                          kR = 0x9e3779b185ebca87ULL;
+  std::uint64_t a[4], b[4];
+  for (int l = 0; l < 4; ++l)
+    a[l] = (0xcbf29ce484222325ULL + 0x632be59bd9b4e019ULL * l) ^ bytes,
+    b[l] = 0x9e3779b97f4a7c15ULL * (l + 1) + bytes;
+  auto mix = [&](int l, std::uint64_t w) {
+    a[l] = (a[l] ^ w) * kP;
+    const std::uint64_t mixed = b[l] + w * kQ;
+    b[l] = (mixed << 31 | mixed >> 33) * kR;
+  };
   std::size_t k = 0;
+  for (; k + 32 <= bytes; k += 32)
+    for (int l = 0; l < 4; ++l) {
+      std::uint64_t w;
+      std::memcpy(&w, data + k + 8 * l, 8);
+      mix(l, w);
+    }
   for (; k + 8 <= bytes; k += 8) {
     std::uint64_t w;
     std::memcpy(&w, data + k, 8);
-    a = (a ^ w) * 0x100000001b3ULL;
-    const std::uint64_t mixed = b + w * 0xc2b2ae3d27d4eb4fULL;
-    b = (mixed << 31 | mixed >> 33) * 0x9e3779b185ebca87ULL;
+    mix(0, w);
   }
   std::uint64_t w = 0;
   if (k < bytes) std::memcpy(&w, data + k, bytes - k);
-  a = (a ^ w) * 0x100000001b3ULL;
-  b = (b ^ (w * 0xc2b2ae3d27d4eb4fULL)) * 0x9e3779b185ebca87ULL;
-  out[0] = a ^ (a >> 29);
-  out[1] = b ^ (b >> 32);
+  mix(0, w);
+  std::uint64_t ha = 0, hb = 0;
+  for (int l = 0; l < 4; ++l) ha = (ha ^ a[l]) * kP, hb = (hb + b[l]) * kR;
+  out[0] = ha ^ (ha >> 29);
+  out[1] = hb ^ (hb >> 32);
 }
 
 /// RangeMin / RangeMax as VTK writes them: of the values, or of the tuples' magnitudes.
@@ -106,23 +123,30 @@ std::string xml_escape(const std::string& text) {
   return out;
 }
 
-std::vector<char> lz4_appended(const char* data, std::size_t bytes) {
+void lz4_appended_into(const char* data, std::size_t bytes, std::vector<char>& out) {
   const std::size_t blocks = (bytes + kBlock - 1) / kBlock;
   std::vector<std::uint64_t> header{blocks, kBlock, bytes % kBlock};
   const int bound = LZ4_compressBound(static_cast<int>(kBlock));
-  std::vector<char> body(blocks * static_cast<std::size_t>(bound));
+  const std::size_t header_bytes = (3 + blocks) * sizeof(std::uint64_t);
+  // The blocks go straight after the header's place, each with room for its worst case; the
+  // buffer keeps its memory from frame to frame (only what it grows by is zero-filled).
+  out.resize(header_bytes + blocks * static_cast<std::size_t>(bound));
   std::size_t used = 0;
   for (std::size_t b = 0; b < blocks; ++b) {
     const std::size_t size = std::min(kBlock, bytes - b * kBlock);
-    const int n = LZ4_compress_fast(data + b * kBlock, body.data() + used, static_cast<int>(size),
-                                    bound, kAcceleration);
+    const int n = LZ4_compress_fast(data + b * kBlock, out.data() + header_bytes + used,
+                                    static_cast<int>(size), bound, kAcceleration);
     if (n <= 0) throw IoError("LZ4 could not compress a block of a frame");
     header.push_back(static_cast<std::uint64_t>(n));
     used += static_cast<std::size_t>(n);
   }
-  std::vector<char> out(header.size() * sizeof(std::uint64_t) + used);
-  std::memcpy(out.data(), header.data(), header.size() * sizeof(std::uint64_t));
-  if (used > 0) std::memcpy(out.data() + header.size() * sizeof(std::uint64_t), body.data(), used);
+  std::memcpy(out.data(), header.data(), header_bytes);
+  out.resize(header_bytes + used);
+}
+
+std::vector<char> lz4_appended(const char* data, std::size_t bytes) {
+  std::vector<char> out;
+  lz4_appended_into(data, bytes, out);
   return out;
 }
 
@@ -133,7 +157,7 @@ const Lz4VtuWriter::Encoded& Lz4VtuWriter::encode(
   hash_bytes(data, bytes, hash);
   auto& e = cache_[key];
   if (e.valid && e.bytes == bytes && e.hash[0] == hash[0] && e.hash[1] == hash[1]) return e;
-  e.appended = lz4_appended(data, bytes);
+  lz4_appended_into(data, bytes, e.appended);
   std::tie(e.range_min, e.range_max) = range();
   e.hash[0] = hash[0], e.hash[1] = hash[1], e.bytes = bytes, e.valid = true;
   return e;

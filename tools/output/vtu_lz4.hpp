@@ -52,6 +52,8 @@ void write_file(const std::filesystem::path& path, const std::string& xml,
 /// (blocks, block size, size of a partial last block or 0, each block's compressed size), then
 /// the blocks.
 std::vector<char> lz4_appended(const char* data, std::size_t bytes);
+/// lz4_appended into `out`, reusing its memory.
+void lz4_appended_into(const char* data, std::size_t bytes, std::vector<char>& out);
 
 /// `text` with &, <, > and " escaped for an XML attribute.
 std::string xml_escape(const std::string& text);
