@@ -241,6 +241,29 @@ TEST_F(CliTest, OverflowingRunStopsWithExitThree) {
 
 // ---- crack measurements ----
 
+TEST_F(CliTest, MeasurementsTakenDuringTheNextForcePassEqualMeasurementsTakenAtOnce) {
+  // With a thread per core, frames and crack measurements go to one thread of the next step's
+  // force pass (the damage copied first); with one thread they are taken at once. The results are
+  // the same for any thread count, so the files must be too, byte for byte.
+  const auto cores = std::thread::hardware_concurrency();
+  if (cores < 2) GTEST_SKIP() << "one core: nothing is handed to a force pass";
+  const std::string scene = std::string(DHPD_SOURCE_DIR) + "/cases/branching_plate_uniform.yaml";
+  const std::vector<std::string> sets = {"body.0.spacing=0.001", "measure.every=1",
+                                         "time.end=2.5e-5"};
+  const auto all =
+      dhpd({"run", scene, "-o", "all", "-q", "--threads", std::to_string(cores)}, sets);
+  ASSERT_EQ(all.code, 0) << all.err;
+  const auto one = dhpd({"run", scene, "-o", "one", "-q", "--threads", "1"}, sets);
+  ASSERT_EQ(one.code, 0) << one.err;
+  const auto cracks = read_text(dir_ / "all" / "cracks.csv");
+  EXPECT_GT(std::count(cracks.begin(), cracks.end(), '\n'), 100);
+  EXPECT_EQ(cracks, read_text(dir_ / "one" / "cracks.csv"));
+  EXPECT_EQ(read_json(dir_ / "all" / "summary.json").at("cracks"),
+            read_json(dir_ / "one" / "summary.json").at("cracks"));
+  for (const auto* frame : {"branching_plate_uniform_000005.vtu", "branching_plate_uniform.pvd"})
+    EXPECT_EQ(read_text(dir_ / "all" / frame), read_text(dir_ / "one" / frame)) << frame;
+}
+
 TEST_F(CliTest, MeasuredRunWritesCracksAndRayleighSpeed) {
   // The shipped plate at 1 mm spacing (4,000 particles), measured every 10 steps instead of the
   // case's every step (speeds over 5 measurements): the crack starts and branches.

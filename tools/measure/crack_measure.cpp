@@ -187,10 +187,11 @@ double rayleigh_speed_near(const ParticleStore& p, const std::vector<Material>& 
 CrackTracker::CrackTracker(Settings settings) : s_(std::move(settings)), tracks_(s_.tips.size()) {}
 
 std::vector<TipRow> CrackTracker::measure(const ParticleStore& p, std::int64_t step, double time,
-                                          const std::optional<Revision>& revision) {
+                                          const std::optional<Revision>& revision,
+                                          const double* damage) {
   DamageGraph built;
   if (!revision) built = damage_graph(p, s_.damage_threshold);
-  const DamageGraph& g = revision ? graph_.update(p, *revision) : built;
+  const DamageGraph& g = revision ? graph_.update(p, *revision, damage) : built;
   std::vector<TipRow> rows;
   for (std::size_t k = 0; k < s_.tips.size(); ++k) rows.push_back(measure_tip(g, p, k, step, time));
   return rows;

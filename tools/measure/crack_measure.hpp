@@ -116,8 +116,11 @@ class CrackTracker {
   /// Measures every tip on the current damage of `p` (φ must be up to date); one row per tip.
   /// With the store's `revision`, the damage graph grows from the last measurement of the same
   /// revision (GrowingDamageGraph); without, it is built anew. The rows are the same either way.
+  /// `damage` (with a revision only): the particles' damage when not p.damage, e.g. a copy taken
+  /// at `step` while the run has gone on (p's other fields must still be those of `step`).
   std::vector<TipRow> measure(const ParticleStore& p, std::int64_t step, double time,
-                              const std::optional<Revision>& revision = std::nullopt);
+                              const std::optional<Revision>& revision = std::nullopt,
+                              const double* damage = nullptr);
   /// One entry per tip, in the order of Settings::tips.
   std::vector<CrackSummary> summary() const;
 

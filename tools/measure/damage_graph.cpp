@@ -66,11 +66,14 @@ DamageGraph damage_graph(const ParticleStore& p, double threshold) {
   return g;
 }
 
-const DamageGraph& GrowingDamageGraph::update(const ParticleStore& p, const Revision& revision) {
-  if (revision != revision_ || p.size() != size_ || !members_still_damaged(p)) restart(p, revision);
+const DamageGraph& GrowingDamageGraph::update(const ParticleStore& p, const Revision& revision,
+                                              const double* damage) {
+  const double* phi = damage ? damage : p.damage.data();
+  if (revision != revision_ || p.size() != size_ || !members_still_damaged(phi))
+    restart(p, revision);
   const std::size_t before = members_.size();
   for (std::size_t i = 0; i < p.size(); ++i)
-    if (!member_[i] && p.damage[i] >= threshold_) join(p, static_cast<std::int32_t>(i));
+    if (!member_[i] && phi[i] >= threshold_) join(p, static_cast<std::int32_t>(i));
   if (members_.size() != before || graph_.offset.empty()) {
     std::inplace_merge(members_.begin(), members_.begin() + static_cast<std::ptrdiff_t>(before),
                        members_.end());
@@ -93,9 +96,9 @@ void GrowingDamageGraph::restart(const ParticleStore& p, const Revision& revisio
   graph_ = DamageGraph{};
 }
 
-bool GrowingDamageGraph::members_still_damaged(const ParticleStore& p) const {
+bool GrowingDamageGraph::members_still_damaged(const double* damage) const {
   return std::all_of(members_.begin(), members_.end(),
-                     [&](std::int32_t i) { return p.damage[i] >= threshold_; });
+                     [&](std::int32_t i) { return damage[i] >= threshold_; });
 }
 
 std::uint64_t GrowingDamageGraph::cell_key(const ParticleStore& p, std::size_t i,

@@ -41,7 +41,9 @@ class GrowingDamageGraph {
  public:
   explicit GrowingDamageGraph(double threshold) : threshold_(threshold) {}
   /// The graph of `p` now: the same nodes, links and lengths as damage_graph(p, threshold).
-  const DamageGraph& update(const ParticleStore& p, const Revision& revision);
+  /// `damage`: the particles' damage when not p.damage (a copy taken earlier, one per particle).
+  const DamageGraph& update(const ParticleStore& p, const Revision& revision,
+                            const double* damage = nullptr);
 
  private:
   struct Link {
@@ -49,7 +51,7 @@ class GrowingDamageGraph {
     double length;
   };
   void restart(const ParticleStore& p, const Revision& revision);
-  bool members_still_damaged(const ParticleStore& p) const;
+  bool members_still_damaged(const double* damage) const;
   std::uint64_t cell_key(const ParticleStore& p, std::size_t i, const std::int64_t shift[3]) const;
   void join(const ParticleStore& p, std::int32_t i);
   void write_graph(std::size_t n);

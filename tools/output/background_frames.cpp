@@ -113,6 +113,10 @@ void BackgroundFrames::write(double time, std::int64_t step, std::vector<double>
   w_->changed.notify_all();
 }
 
+bool BackgroundFrames::shared() const {
+  return w_->shared;
+}
+
 const SideTask* BackgroundFrames::side_task() const {
   return w_->shared && w_->pending ? &w_->task : nullptr;
 }

@@ -37,6 +37,8 @@ class BackgroundFrames {
   /// Shared: the work of the frame in flight, for one thread of the next force pass (nullptr when
   /// none is; valid until the next call of any other member). Other modes: nullptr.
   const SideTask* side_task() const;
+  /// Whether frames go to the next force pass (Mode::Shared).
+  bool shared() const;
   /// Waits until every frame handed over is on disk; throws the error of a failed one.
   void drain();
   /// drain() that returns the error message instead of throwing (empty when none).

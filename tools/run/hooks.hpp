@@ -2,10 +2,12 @@
 // with their CSV logs, and the log lines of a run.
 #pragma once
 #include <cstdint>
+#include <exception>
 #include <filesystem>
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "engine/simulation.hpp"
@@ -95,6 +97,8 @@ struct CrackHook {
         csv((dir / "cracks.csv").string(), tip_names(spec.settings), append),
         published(spec.published),
         rayleigh_speed(c_r) {}
+  CrackHook(const CrackHook&) = delete;  // side_task() points into it
+  CrackHook& operator=(const CrackHook&) = delete;
   measure::CrackTracker tracker;
   io::CrackWriter csv;
   std::optional<measure::Published> published;
@@ -111,7 +115,51 @@ struct CrackHook {
     for (const auto& row : tracker.measure(sim.particles(), sim.steps_done(), sim.time(), revision))
       csv.write(row);
   }
+
+  /// The measurement of the current state, taken later by side_task() (one thread of the next
+  /// step's force pass) or flush(): the damage, the one field a step changes that it reads, is
+  /// copied now; the particles' other fields stay those of this state until the next edit, and
+  /// the run calls flush() after every step, before anything edits or reads the measurements.
+  void defer_measurement(const Simulation& sim) {
+    flush();
+    const auto& p = sim.particles();
+    damage_copy.assign(p.damage.begin(), p.damage.end());
+    deferred = Deferred{&p, sim.steps_done(), sim.time(), {sim.generation(), sim.layout_version()}};
+  }
+  /// The deferred measurement's work, for the next force pass (nullptr when none is waiting).
+  const SideTask* side_task() const { return deferred ? &task : nullptr; }
   io::CrackReport report() const { return {rayleigh_speed, tracker.summary(), published}; }
+  /// Takes a deferred measurement now (if the force pass did not) and throws its error.
+  void flush() {
+    run_deferred();
+    if (error) std::rethrow_exception(std::exchange(error, nullptr));
+  }
+  /// flush() that keeps the error (a run already stopping for another reason).
+  void flush_quietly() noexcept { run_deferred(); }
+
+ private:
+  struct Deferred {
+    const ParticleStore* particles;
+    std::int64_t step;
+    double time;
+    measure::Revision revision;
+  };
+  void run_deferred() noexcept {
+    if (!deferred) return;
+    const Deferred d = *deferred;
+    deferred.reset();
+    try {
+      for (const auto& row :
+           tracker.measure(*d.particles, d.step, d.time, d.revision, damage_copy.data()))
+        csv.write(row);
+    } catch (...) {
+      error = std::current_exception();
+    }
+  }
+  std::vector<double> damage_copy;
+  std::optional<Deferred> deferred;
+  std::exception_ptr error;
+  SideTask task{[this] { run_deferred(); }};
 };
 
 /// Per material of the scene: its particles, the bonds they own and how many of those are broken.

@@ -80,8 +80,14 @@ struct RunContext {
   LastGood good{};
 
   /// Measures the cracks at measurement steps and at the last step.
+  /// The crack measurement of this step when due: deferred to the next force pass (CrackHook::
+  /// defer_measurement) where frames are (a team on every core), at once for the last step.
   void measure(bool last) {
-    if (cracks && (last || cracks->tracker.due(sim.steps_done()))) cracks->take_measurement(sim);
+    if (!cracks || !(last || cracks->tracker.due(sim.steps_done()))) return;
+    if (!last && frames.shared())
+      cracks->defer_measurement(sim);
+    else
+      cracks->take_measurement(sim);
   }
   void write_frame() {
     auto t = sim.timers().scope(Phase::Output);
@@ -101,6 +107,7 @@ struct RunContext {
   /// The run loop's state now (what a checkpoint of the current state saves). Without `frames`
   /// its list of frames stays empty and nothing waits for a frame in flight.
   RunState run_state(bool with_frames = true) {
+    if (cracks) cracks->flush();
     RunState st = *state;
     st.schedule_position = schedule->position();
     if (with_frames) st.frames = frames.entries();

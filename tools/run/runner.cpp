@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <csignal>
+#include <exception>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -147,7 +148,25 @@ void time_loop(RunContext& ctx, io::Progress& progress) {
     // A step that a history row or frame follows computes its strain energy in its force pass.
     const bool records =
         k % ctx.scene.output.history_every == 0 || schedule.frame_due(k, sim.time() + sim.dt());
-    sim.step({.strain_energy = records, .side_task = ctx.frames.side_task()});
+    {
+      // The frame and crack measurement handed over after the previous step are written by one
+      // thread of this step's force pass; a measurement still waiting is taken right after the
+      // step, even when the step throws (before anything restores or reads the state).
+      const SideTask* frame = ctx.frames.side_task();
+      const SideTask* crack = ctx.cracks ? ctx.cracks->side_task() : nullptr;
+      const SideTask both = [frame, crack] {
+        if (frame) (*frame)();
+        if (crack) (*crack)();
+      };
+      const struct FlushCracks {
+        CrackHook* cracks;
+        ~FlushCracks() {
+          if (cracks && std::uncaught_exceptions() > 0) cracks->flush_quietly();
+        }
+      } flush_on_throw{ctx.cracks};
+      sim.step({.strain_energy = records, .side_task = frame || crack ? &both : nullptr});
+      if (ctx.cracks) ctx.cracks->flush();
+    }
     // A signal already caught starts no refinement event: the run stops after this step.
     if (hook && hook->refiner.due(k) && !signals.caught()) {
       try {
@@ -383,7 +402,10 @@ void run_scene(const scene::Scene& s, const RunOptions& opt) {
     sum.message = message;
     sum.warnings = warnings;
     sum.refinement_events = hook ? hook->events : 0;
-    if (cracks) sum.cracks = cracks->report();
+    if (cracks) {
+      cracks->flush_quietly();
+      sum.cracks = cracks->report();
+    }
     io::write_summary((dir / "summary.json").string(), sum);
     run::log_end(log, sum);
   };
