@@ -28,10 +28,13 @@ LengthInterner::LengthInterner(std::vector<double>& table)
   for (std::size_t k = 0; k < table.size(); ++k) {
     const auto bits = bits_of(table[k]);
     const auto s = slot_of(bits);
-    if (keys_[s] != kEmpty) continue;  // a repeated value: the first one's index
-    keys_[s] = bits, index_[s] = static_cast<std::int32_t>(k);
-    if (2 * ++used_ > keys_.size()) grow();
+    if (keys_[s] == kEmpty) insert(s, bits, static_cast<std::int32_t>(k));  // else a repeat
   }
+}
+
+void LengthInterner::insert(std::size_t slot, std::uint64_t bits, std::int32_t index) {
+  keys_[slot] = bits, index_[slot] = index;
+  if (2 * ++used_ > keys_.size()) grow();
 }
 
 std::size_t LengthInterner::slot_of(std::uint64_t bits) const {
@@ -58,10 +61,10 @@ std::int32_t LengthInterner::index_of(double inverse_length) {
   if (keys_[s] == bits) return index_[s];
   if (table_.size() >= static_cast<std::size_t>(INT32_MAX))
     throw EngineError("more than 2^31 distinct bond lengths");
-  keys_[s] = bits, index_[s] = static_cast<std::int32_t>(table_.size());
+  const auto index = static_cast<std::int32_t>(table_.size());
   table_.push_back(inverse_length);
-  if (2 * ++used_ > keys_.size()) grow();
-  return index_[slot_of(bits)];
+  insert(s, bits, index);
+  return index;
 }
 
 void canonical_lengths(std::vector<double>& table, std::vector<std::int32_t>& index,

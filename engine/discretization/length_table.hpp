@@ -25,6 +25,8 @@ class LengthInterner {
  private:
   /// Slot of `bits`: where it is, or the empty slot where it goes.
   std::size_t slot_of(std::uint64_t bits) const;
+  /// Puts `bits` with `index` into the empty `slot`, growing the slots past half full.
+  void insert(std::size_t slot, std::uint64_t bits, std::int32_t index);
   void grow();
 
   std::vector<double>& table_;

@@ -63,6 +63,11 @@ struct BackgroundFrames::Worker {
       error = std::current_exception();
     }
   }
+  /// Shared: writes the pending frame, then throws the error of a failed frame.
+  void finish_shared() {
+    write_pending();
+    if (error) std::rethrow_exception(error);
+  }
   /// Waits until nothing is in flight (lock held by the caller).
   void wait_idle(std::unique_lock<std::mutex>& lock) {
     changed.wait(lock, [&] { return !pending.has_value(); });
@@ -98,8 +103,7 @@ BackgroundFrames::~BackgroundFrames() {
 void BackgroundFrames::write(double time, std::int64_t step, std::vector<double> points,
                              std::vector<PointField> fields) {
   if (w_->shared) {
-    w_->write_pending();
-    if (w_->error) std::rethrow_exception(w_->error);
+    w_->finish_shared();
     w_->pending = Worker::Frame{time, step, std::move(points), std::move(fields)};
     return;
   }
@@ -123,8 +127,7 @@ const SideTask* BackgroundFrames::side_task() const {
 
 void BackgroundFrames::drain() {
   if (w_->shared) {
-    w_->write_pending();
-    if (w_->error) std::rethrow_exception(w_->error);
+    w_->finish_shared();
     return;
   }
   if (!w_->thread.joinable()) return;

@@ -111,9 +111,8 @@ struct CrackHook {
   }
   void take_measurement(Simulation& sim) {
     auto t = sim.timers().scope(Phase::Diagnostics);
-    const measure::Revision revision{sim.generation(), sim.layout_version()};
-    for (const auto& row : tracker.measure(sim.particles(), sim.steps_done(), sim.time(), revision))
-      csv.write(row);
+    write_rows(sim.particles(), sim.steps_done(), sim.time(),
+               {sim.generation(), sim.layout_version()}, nullptr);
   }
 
   /// The measurement of the current state, taken later by side_task() (one thread of the next
@@ -144,14 +143,17 @@ struct CrackHook {
     double time;
     measure::Revision revision;
   };
+  /// Measures (with `damage` instead of p.damage when given) and appends the rows to cracks.csv.
+  void write_rows(const ParticleStore& p, std::int64_t step, double time,
+                  const measure::Revision& revision, const double* damage) {
+    for (const auto& row : tracker.measure(p, step, time, revision, damage)) csv.write(row);
+  }
   void run_deferred() noexcept {
     if (!deferred) return;
     const Deferred d = *deferred;
     deferred.reset();
     try {
-      for (const auto& row :
-           tracker.measure(*d.particles, d.step, d.time, d.revision, damage_copy.data()))
-        csv.write(row);
+      write_rows(*d.particles, d.step, d.time, d.revision, damage_copy.data());
     } catch (...) {
       error = std::current_exception();
     }

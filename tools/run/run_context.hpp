@@ -79,7 +79,6 @@ struct RunContext {
   std::vector<std::string> command_words{};  ///< the command line, for the restart hint
   LastGood good{};
 
-  /// Measures the cracks at measurement steps and at the last step.
   /// The crack measurement of this step when due: deferred to the next force pass (CrackHook::
   /// defer_measurement) where frames are (a team on every core), at once for the last step.
   void measure(bool last) {
