@@ -1,6 +1,7 @@
 // The fields of output frames: the particle store's exported fields and the derived ones.
 #include "engine/output_fields.hpp"
 
+#include <algorithm>
 #include <type_traits>
 
 #include "engine/base/errors.hpp"
@@ -65,25 +66,6 @@ const Derived kDerived[] = {
      }},
 };
 
-/// A store field's values: vectors interleaved (3 per particle), indices and flags as int32.
-FieldValues store_values(const FieldInfo& f) {
-  return std::visit(
-      [](const auto* data) {
-        using T = std::remove_cv_t<std::remove_pointer_t<decltype(data)>>;
-        if constexpr (std::is_same_v<T, VectorArray>) {
-          std::vector<double> out(3 * (*data)[0].size());
-          for (std::size_t i = 0; i < (*data)[0].size(); ++i)
-            for (int a = 0; a < 3; ++a) out[3 * i + a] = (*data)[a][i];
-          return FieldValues{3, std::move(out)};
-        } else if constexpr (std::is_same_v<T, ScalarArray>) {
-          return FieldValues{1, *data};
-        } else {
-          return FieldValues{1, std::vector<std::int32_t>(data->begin(), data->end())};
-        }
-      },
-      f.data);
-}
-
 }  // namespace
 
 std::vector<OutputField> output_fields() {
@@ -97,11 +79,55 @@ std::vector<OutputField> output_fields() {
 }
 
 FieldValues output_values(Simulation& sim, std::string_view name) {
-  for (const auto& f : sim.particles().fields())
-    if (f.output != Export::Never && f.name == name) return store_values(f);
+  if (const auto f = exported_store_field(sim.particles(), name)) {
+    auto values = blank_values(*f, sim.particles().size());
+    std::visit([&](auto& v) { copy_values(*f, v.data(), 0, sim.particles().size()); },
+               values.values);
+    return values;
+  }
   for (const auto& d : kDerived)
     if (d.field.name == name) return d.values(sim);
   throw EngineError("unknown output field '" + std::string(name) + "'");
+}
+
+std::optional<FieldInfo> exported_store_field(ParticleStore& p, std::string_view name) {
+  for (const auto& f : p.fields())
+    if (f.output != Export::Never && f.name == name) return f;
+  return std::nullopt;
+}
+
+// A store field's values: vectors interleaved (3 per particle), indices and flags as int32.
+FieldValues blank_values(const FieldInfo& f, std::size_t n) {
+  return std::visit(
+      [n](const auto* data) {
+        using T = std::remove_cv_t<std::remove_pointer_t<decltype(data)>>;
+        if constexpr (std::is_same_v<T, VectorArray>)
+          return FieldValues{3, std::vector<double>(3 * n)};
+        else if constexpr (std::is_same_v<T, ScalarArray>)
+          return FieldValues{1, std::vector<double>(n)};
+        else
+          return FieldValues{1, std::vector<std::int32_t>(n)};
+      },
+      f.data);
+}
+
+void copy_values(const FieldInfo& f, std::variant<double*, std::int32_t*> out, std::int64_t begin,
+                 std::int64_t end) {
+  std::visit(
+      [&](const auto* data) {
+        using T = std::remove_cv_t<std::remove_pointer_t<decltype(data)>>;
+        if constexpr (std::is_same_v<T, VectorArray>) {
+          double* to = std::get<double*>(out);
+          for (std::int64_t i = begin; i < end; ++i)
+            for (int a = 0; a < 3; ++a) to[3 * i + a] = (*data)[a][i];
+        } else if constexpr (std::is_same_v<T, ScalarArray>) {
+          std::copy(data->begin() + begin, data->begin() + end, std::get<double*>(out) + begin);
+        } else {
+          std::int32_t* to = std::get<std::int32_t*>(out);
+          for (std::int64_t i = begin; i < end; ++i) to[i] = static_cast<std::int32_t>((*data)[i]);
+        }
+      },
+      f.data);
 }
 
 }  // namespace dhpd

@@ -3,6 +3,7 @@
 // on demand. The VTK writer, the scene's `output.fields` and `dhpd fields` all read this list.
 #pragma once
 #include <cstdint>
+#include <optional>
 #include <string_view>
 #include <variant>
 #include <vector>
@@ -27,5 +28,14 @@ struct FieldValues {
 
 /// The values of field `name`; throws EngineError for a name not in output_fields().
 FieldValues output_values(Simulation& sim, std::string_view name);
+
+/// The particle-store field exported as `name` (nullopt for a derived field or another name).
+std::optional<FieldInfo> exported_store_field(ParticleStore& p, std::string_view name);
+/// output_values of store field `f` laid out for `n` particles, not yet copied (zeros).
+FieldValues blank_values(const FieldInfo& f, std::size_t n);
+/// Copies particles [begin, end) of store field `f` to `out`, the data of its blank_values:
+/// threads may copy disjoint ranges at once.
+void copy_values(const FieldInfo& f, std::variant<double*, std::int32_t*> out, std::int64_t begin,
+                 std::int64_t end);
 
 }  // namespace dhpd

@@ -3,6 +3,7 @@
 #include "engine/base/parallel.hpp"
 
 #include <fmt/core.h>
+#include <omp.h>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -169,9 +170,14 @@ void Simulation::step(StepExtras extras) {
   double body_work = 0.0;
   {
     auto t = timers_.scope(Phase::Integrate);
-#pragma omp parallel for schedule(static) if (n >= kParallelMinParticles)
-    for (std::int64_t i = 0; i < n; ++i)
-      for (int a = 0; a < dim; ++a) p_.velocity[a][i] += h * p_.force_density[a][i] / p_.density[i];
+#pragma omp parallel if (n >= kParallelMinParticles)
+    {
+      const auto [begin, end] = team_range(n, omp_get_thread_num(), omp_get_num_threads());
+      if (extras.before_change) (*extras.before_change)(begin, end);
+      for (std::int64_t i = begin; i < end; ++i)
+        for (int a = 0; a < dim; ++a)
+          p_.velocity[a][i] += h * p_.force_density[a][i] / p_.density[i];
+    }
     enforce_prescribed_velocity();
     for (std::size_t k = 0; k < loads_.loaded.size(); ++k) {
       const auto i = loads_.loaded[k];

@@ -115,6 +115,10 @@ class Simulation {
     /// Work of the caller's that one thread does during the step's force pass (SideTask), e.g.
     /// encoding an output frame from its own copy of the fields.
     const SideTask* side_task = nullptr;
+    /// Work of the caller's on the state the previous step left, shared by the step's threads
+    /// (RangeTask): each range before the step changes those particles, e.g. copying the damage
+    /// for a measurement that the force pass's side task takes.
+    const RangeTask* before_change = nullptr;
   };
   void step(StepExtras extras);
   void step() { step(StepExtras{}); }

@@ -3,9 +3,11 @@
 // milliseconds), so small problems run on one thread. Results do not depend on it: every
 // parallel loop is a gather with a fixed order per particle.
 #pragma once
+#include <algorithm>
 #include <cstdint>
 #include <functional>
 #include <type_traits>
+#include <utility>
 
 namespace dhpd {
 inline constexpr std::int64_t kParallelMinParticles = 4096;
@@ -16,6 +18,19 @@ inline constexpr std::int64_t kParallelMinParticles = 4096;
 /// of stealing a core from the team. It must not touch anything the pass reads or writes, and must
 /// not throw (it keeps its own errors). The pass's results do not depend on it.
 using SideTask = std::function<void()>;
+
+/// Work a caller hands to a parallel pass over particles for a range [begin, end) of them: each
+/// thread of the team calls it once, for the range it then works on (the ranges are disjoint and
+/// cover every particle), so the work is shared by the team inside the pass's own fork and join.
+using RangeTask = std::function<void(std::int64_t begin, std::int64_t end)>;
+
+/// The part [begin, end) of n items that thread `thread` of a team of `team` takes: contiguous
+/// ranges in thread order, the first n % team of them one item longer.
+inline std::pair<std::int64_t, std::int64_t> team_range(std::int64_t n, int thread, int team) {
+  const std::int64_t base = n / team, extra = n % team;
+  const std::int64_t begin = thread * base + std::min<std::int64_t>(thread, extra);
+  return {begin, begin + base + (thread < extra ? 1 : 0)};
+}
 
 /// Calls f(std::integral_constant<int, D>{}) with D = dim (1, 2, else 3): the one place a run's
 /// dimension picks a kernel's instantiation, once per call and never per bond.

@@ -73,6 +73,8 @@ class Writer {
     size(b.size());
     raw(b.data(), b.size());
   }
+  /// Bytes as they are, without their size (a reader knows it from an earlier value).
+  void raw_bytes(std::span<const std::byte> b) { raw(b.data(), b.size()); }
   std::vector<std::byte>& bytes() { return bytes_; }
   std::size_t size() const { return counting_ ? counted_ : bytes_.size(); }
   void reserve(std::size_t n) { bytes_.reserve(n); }

@@ -6,9 +6,12 @@
 #include <algorithm>
 #include <array>
 #include <cstring>
+#include <functional>
+#include <memory>
 
 #include "engine/checkpoint/archive.hpp"
 #include "engine/checkpoint/checkpoint_access.hpp"
+#include "engine/checkpoint/payload_blocks.hpp"
 #include "engine/physics/bond_loops.hpp"
 
 namespace dhpd {
@@ -126,44 +129,60 @@ T read_at(std::span<const std::byte> bytes, std::size_t at) {
 
 namespace {
 
-/// The file as pieces: header, then the scene text, fingerprint and the simulation's size; the
-/// simulation; the run state's size; the run state. The parts are not copied.
-struct Pieces {
-  std::vector<std::byte> head, middle;
-  std::array<std::span<const std::byte>, 4> all() const {
-    return {std::span(head), simulation, std::span(middle), run_state};
-  }
-  std::span<const std::byte> simulation, run_state;
-};
-
-Pieces checkpoint_pieces(const CheckpointParts& parts) {
-  archive::Writer head, middle;
+/// The header with the payload's length and checksum still 0 (set once the payload is written).
+std::vector<std::byte> blank_header() {
+  archive::Writer head;
   head(kMagic), head(kCheckpointVersion), head(kByteOrderMark);
-  head(std::uint64_t{0}), head(std::uint64_t{0});  // payload length and checksum, filled below
-  head(parts.scene_text), head(parts.fingerprint);
-  head(static_cast<std::uint64_t>(parts.simulation.size()));
-  middle(static_cast<std::uint64_t>(parts.run_state.size()));
-  Pieces p{std::move(head.bytes()), std::move(middle.bytes()), parts.simulation, parts.run_state};
+  head(std::uint64_t{0}), head(std::uint64_t{0});
+  return std::move(head.bytes());
+}
+
+/// Stores the payload (scene text, fingerprint, the simulation's bytes through `simulation`, the
+/// run state) in LZ4 blocks through `sink`; returns the stored length and its checksum.
+template <class SaveSimulation>
+std::array<std::byte, 16> store_payload(
+    const std::string& scene_text, std::uint64_t fingerprint, std::uint64_t simulation_bytes,
+    SaveSimulation&& simulation, std::span<const std::byte> run_state,
+    const std::function<void(std::span<const std::byte>)>& sink) {
   archive::Checksum sum;
   std::uint64_t length = 0;
-  const auto all = p.all();
-  for (std::size_t k = 0; k < all.size(); ++k) {
-    const auto payload = k == 0 ? all[0].subspan(kHeaderBytes) : all[k];
-    sum.add(payload);
-    length += payload.size();
-  }
+  archive::BlockCompressor blocks([&](std::span<const std::byte> stored) {
+    sum.add(stored);
+    length += stored.size();
+    sink(stored);
+  });
+  archive::Writer payload([&](std::span<const std::byte> bytes) { blocks.add(bytes); });
+  payload(scene_text), payload(fingerprint), payload(simulation_bytes);
+  simulation(payload);
+  payload.section(run_state);
+  blocks.finish();
   const std::uint64_t value = sum.value();
-  std::memcpy(p.head.data() + 16, &length, 8);
-  std::memcpy(p.head.data() + 24, &value, 8);
-  return p;
+  std::array<std::byte, 16> tail;
+  std::memcpy(tail.data(), &length, 8);
+  std::memcpy(tail.data() + 8, &value, 8);
+  return tail;
+}
+
+/// The parts of an archived payload; the spans point into `payload`.
+CheckpointParts parse_payload(std::span<const std::byte> payload, const std::string& source) {
+  archive::Reader r(payload, source);
+  CheckpointParts parts;
+  r(parts.scene_text), r(parts.fingerprint);
+  parts.simulation = r.section();
+  parts.run_state = r.section();
+  if (r.remaining() != 0) r.fail("bytes left after the last section");
+  return parts;
 }
 
 }  // namespace
 
 std::vector<std::byte> encode_checkpoint(const CheckpointParts& parts) {
-  const auto pieces = checkpoint_pieces(parts);
-  std::vector<std::byte> bytes;
-  for (const auto piece : pieces.all()) bytes.insert(bytes.end(), piece.begin(), piece.end());
+  auto bytes = blank_header();
+  const auto tail = store_payload(
+      parts.scene_text, parts.fingerprint, parts.simulation.size(),
+      [&](archive::Writer& w) { w.raw_bytes(parts.simulation); }, parts.run_state,
+      [&](std::span<const std::byte> b) { bytes.insert(bytes.end(), b.begin(), b.end()); });
+  std::memcpy(bytes.data() + 16, tail.data(), tail.size());
   return bytes;
 }
 
@@ -173,37 +192,11 @@ void write_checkpoint_file(const std::string& path, const std::string& scene_tex
   archive::Writer count(true);
   CheckpointAccess::save(sim, count);
   AtomicFile file(path);
-  archive::Writer head;
-  head(kMagic), head(kCheckpointVersion), head(kByteOrderMark);
-  head(std::uint64_t{0}), head(std::uint64_t{0});  // payload length and checksum, set below
-  file.write(head.bytes());
-  // The payload goes through a buffer to the file, summed on the way.
-  std::vector<std::byte> buffer;
-  buffer.reserve(std::size_t{1} << 20);
-  archive::Checksum sum;
-  std::uint64_t length = 0;
-  const auto flush = [&] {
-    file.write(buffer);
-    buffer.clear();
-  };
-  archive::Writer payload([&](std::span<const std::byte> bytes) {
-    sum.add(bytes);
-    length += bytes.size();
-    if (buffer.size() + bytes.size() > buffer.capacity()) flush();
-    if (bytes.size() >= buffer.capacity())
-      file.write(bytes);
-    else
-      buffer.insert(buffer.end(), bytes.begin(), bytes.end());
-  });
-  payload(scene_text), payload(sim.fingerprint());
-  payload(static_cast<std::uint64_t>(count.size()));
-  CheckpointAccess::save(sim, payload);
-  payload.section(run_state);
-  flush();
-  const std::uint64_t value = sum.value();
-  std::array<std::byte, 16> tail;
-  std::memcpy(tail.data(), &length, 8);
-  std::memcpy(tail.data() + 8, &value, 8);
+  file.write(blank_header());
+  const auto tail = store_payload(
+      scene_text, sim.fingerprint(), count.size(),
+      [&](archive::Writer& w) { CheckpointAccess::save(sim, w); }, run_state,
+      [&](std::span<const std::byte> b) { file.write(b); });
   file.write_at(16, tail);
   file.commit(previous);
 }
@@ -217,9 +210,9 @@ CheckpointParts decode_checkpoint(std::span<const std::byte> bytes, const std::s
   const auto version = read_at<std::uint32_t>(bytes, 8);
   if (read_at<std::uint32_t>(bytes, 12) != kByteOrderMark)
     refuse("it was written on a machine of the other byte order");
-  if (version != kCheckpointVersion)
-    refuse(
-        fmt::format("format version {}, this dhpd reads version {}", version, kCheckpointVersion));
+  if (version != kCheckpointVersion && version != kUncompressedVersion)
+    refuse(fmt::format("format version {}, this dhpd reads versions {} and {}", version,
+                       kUncompressedVersion, kCheckpointVersion));
   const auto length = read_at<std::uint64_t>(bytes, 16);
   if (length != bytes.size() - kHeaderBytes)
     refuse(fmt::format("it is truncated or has extra bytes ({} payload bytes, the header says {})",
@@ -227,12 +220,11 @@ CheckpointParts decode_checkpoint(std::span<const std::byte> bytes, const std::s
   const auto payload = bytes.subspan(kHeaderBytes);
   if (archive::checksum(payload) != read_at<std::uint64_t>(bytes, 24))
     refuse("the checksum does not match (the file is corrupted)");
-  archive::Reader r(payload, source);
-  CheckpointParts parts;
-  r(parts.scene_text), r(parts.fingerprint);
-  parts.simulation = r.section();
-  parts.run_state = r.section();
-  if (r.remaining() != 0) r.fail("bytes left after the last section");
+  if (version == kUncompressedVersion) return parse_payload(payload, source);
+  auto inflated =
+      std::make_shared<const std::vector<std::byte>>(archive::inflate_blocks(payload, source));
+  auto parts = parse_payload(*inflated, source);
+  parts.inflated = std::move(inflated);
   return parts;
 }
 

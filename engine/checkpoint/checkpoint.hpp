@@ -3,12 +3,14 @@
 // into a Simulation built from the same setup continues bit for bit.
 //
 // File layout (native byte order, refused on a machine of the other order):
-//   "DHPDCKPT" | u32 format version | u32 0x01020304 | u64 payload bytes | u64 checksum of payload
-//   (archive::Checksum: FNV-1a over 64-bit words)
-//   payload: scene text | u64 setup fingerprint | simulation bytes | run-state bytes
+//   "DHPDCKPT" | u32 format version | u32 0x01020304 | u64 stored payload bytes | u64 checksum of
+//   the stored payload (archive::Checksum: FNV-1a over 64-bit words)
+//   payload: scene text | u64 setup fingerprint | simulation bytes | run-state bytes, stored in
+//   LZ4 blocks of 1 MiB (payload_blocks.hpp; version 6 stored it as it is)
 #pragma once
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
@@ -22,8 +24,10 @@ namespace dhpd {
 // 4: interaction rows with one entry per neighbour pair;
 // 5: the bond rows are the only bond store (no bond list or dual lists), stiffness in float;
 // 6: the rows are built again from the particles on loading: only each row's entry count, the
-//    entries' flags and factors (row order) and the stiffness scale are stored.
-constexpr std::uint32_t kCheckpointVersion = 6;
+//    entries' flags and factors (row order) and the stiffness scale are stored;
+// 7: the payload in LZ4 blocks (version 6 files are still read: the payload is the same).
+constexpr std::uint32_t kCheckpointVersion = 7;
+constexpr std::uint32_t kUncompressedVersion = 6;
 
 /// The in-memory snapshot of a simulation (every array as it is, row arenas included).
 std::vector<std::byte> save_simulation(const Simulation& sim);
@@ -58,12 +62,15 @@ struct CheckpointParts {
   std::uint64_t fingerprint = 0;  ///< setup_fingerprint of its setup
   std::span<const std::byte> simulation;
   std::span<const std::byte> run_state;  ///< the caller's (tools/run_checkpoint.hpp)
+  /// The payload inflated from a file's LZ4 blocks, which the spans then point into (empty for
+  /// a version-6 file: they point into its bytes).
+  std::shared_ptr<const std::vector<std::byte>> inflated = nullptr;
 };
 
 /// Header, checksum and parts as one buffer (an in-memory checkpoint).
 std::vector<std::byte> encode_checkpoint(const CheckpointParts& parts);
-/// Checks magic, version, byte order, length and checksum; the spans point into `bytes`. Throws
-/// InputError naming `source` and what is wrong.
+/// Checks magic, version, byte order, length and checksum; the spans point into `bytes` or into
+/// the inflated payload the parts hold. Throws InputError naming `source` and what is wrong.
 CheckpointParts decode_checkpoint(std::span<const std::byte> bytes, const std::string& source);
 
 /// The checkpoint of `sim` streamed to `path` through an AtomicFile, without a serialised copy

@@ -218,9 +218,9 @@ double smallest(const std::vector<double>& values) {
 }
 
 double ordered_sum(const std::vector<double>& values) {
-  // Block-wise over fixed blocks of 4096: serial, so identical for any thread count.
+  // Block-wise over fixed blocks: serial, so identical for any thread count.
   double total = 0.0;
-  constexpr std::size_t block = 4096;
+  constexpr auto block = static_cast<std::size_t>(kOrderedSumBlock);
   for (std::size_t s = 0; s < values.size(); s += block) {
     double part = 0.0;
     const std::size_t e = std::min(values.size(), s + block);

@@ -82,5 +82,7 @@ double smallest(const std::vector<double>& values);
 
 /// Deterministic sum (fixed order, independent of threads).
 double ordered_sum(const std::vector<double>& values);
+/// The blocks of ordered_sum: each summed in order, then their sums in order.
+inline constexpr std::int64_t kOrderedSumBlock = 4096;
 
 }  // namespace dhpd

@@ -1,17 +1,22 @@
 // Engine checkpoints: N steps, snapshot, restore into a fresh Simulation, M more steps equals an
-// uninterrupted N + M run byte for byte (2D fracture, 3D); damaged snapshots are refused; a
+// uninterrupted N + M run byte for byte (2D fracture, 3D); damaged snapshots are refused; the
+// payload is stored in LZ4 blocks and version-6 files are still read; a
 // snapshot refreshes an old one in place; the fingerprint follows the particles. (With
 // refinement events and re-sorts on both sides: tests/refine/test_checkpoint_events.cpp.)
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <span>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "engine/base/errors.hpp"
+#include "engine/checkpoint/archive.hpp"
 #include "engine/checkpoint/checkpoint.hpp"
 #include "tests/support/checkpoint.hpp"
 
@@ -73,6 +78,72 @@ TEST(Checkpoint, DamagedFilesAreRefused) {
   Simulation fresh(pulled_plate());
   for (std::size_t cut = 0; cut < snapshot.size(); cut += 1 + snapshot.size() / 97)
     EXPECT_THROW(load_simulation(std::span(snapshot).first(cut), fresh, "ck.bin"), InputError);
+}
+
+/// A checkpoint as version 6 wrote it: the payload as it is after the header.
+std::vector<std::byte> uncompressed_checkpoint(const CheckpointParts& parts) {
+  archive::Writer payload;
+  payload(parts.scene_text), payload(parts.fingerprint);
+  payload.section(parts.simulation), payload.section(parts.run_state);
+  archive::Writer head;
+  head(std::array<char, 8>{'D', 'H', 'P', 'D', 'C', 'K', 'P', 'T'});
+  head(kUncompressedVersion), head(std::uint32_t{0x01020304u});
+  head(static_cast<std::uint64_t>(payload.size())), head(archive::checksum(payload.bytes()));
+  auto bytes = head.bytes();
+  bytes.insert(bytes.end(), payload.bytes().begin(), payload.bytes().end());
+  return bytes;
+}
+
+TEST(Checkpoint, PayloadIsStoredCompressedAndVersion6FilesAreStillRead) {
+  Simulation sim(pulled_plate());
+  sim.run_steps(30);
+  const auto snapshot = save_simulation(sim);
+  const std::vector<std::byte> state{std::byte{4}, std::byte{5}};
+  const CheckpointParts parts{"scene text", 11, snapshot, state};
+  const auto file = encode_checkpoint(parts);
+  const auto old = uncompressed_checkpoint(parts);
+  // Constant fields and bond flags compress well: the plate's file is under half its payload.
+  EXPECT_LT(2 * file.size(), old.size());
+  for (const auto& bytes : {file, old}) {
+    const auto back = decode_checkpoint(bytes, "ck.bin");
+    EXPECT_EQ(back.scene_text, "scene text");
+    EXPECT_EQ(back.fingerprint, 11u);
+    EXPECT_TRUE(std::ranges::equal(back.simulation, snapshot));
+    EXPECT_TRUE(std::ranges::equal(back.run_state, state));
+  }
+}
+
+TEST(Checkpoint, MalformedBlocksWithAValidChecksumAreRefused) {
+  Simulation sim(pulled_plate());
+  const auto snapshot = save_simulation(sim);
+  const auto file = encode_checkpoint({"scene", 1, snapshot, {}});
+  constexpr std::size_t header = 32;
+  // Edits the first block's sizes, then makes length and checksum fit again: only the block
+  // check can refuse it (and it must, without reading past the end).
+  const auto edited = [&](std::uint32_t raw, std::uint32_t stored, std::size_t cut = 0) {
+    auto bytes = file;
+    std::memcpy(bytes.data() + header, &raw, 4);
+    std::memcpy(bytes.data() + header + 4, &stored, 4);
+    bytes.resize(bytes.size() - cut);
+    const std::uint64_t length = bytes.size() - header;
+    const auto sum = archive::checksum(std::span(bytes).subspan(header));
+    std::memcpy(bytes.data() + 16, &length, 8);
+    std::memcpy(bytes.data() + 24, &sum, 8);
+    try {
+      decode_checkpoint(bytes, "ck.bin");
+      return std::string("accepted");
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+  };
+  std::uint32_t sizes[2];
+  std::memcpy(sizes, file.data() + header, 8);
+  EXPECT_NE(edited(sizes[0], sizes[1]).find("accepted"), std::string::npos);
+  EXPECT_NE(edited(0, sizes[1]).find("impossible size"), std::string::npos);
+  EXPECT_NE(edited(sizes[0], 0xfffffff0u).find("cut short"), std::string::npos);
+  EXPECT_NE(edited(sizes[0] - 1, sizes[1]).find("does not inflate"), std::string::npos);
+  EXPECT_NE(edited(sizes[0], sizes[1], 3).find("ck.bin: not a valid checkpoint"),
+            std::string::npos);
 }
 
 TEST(Checkpoint, SnapshotIntoAnOldOneReusesItsMemory) {

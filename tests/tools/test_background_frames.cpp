@@ -27,8 +27,8 @@ std::vector<PointField> fields_of(int frame, std::size_t n) {
   return {{"velocity", 3, v}, {"id", 1, id}};
 }
 
-/// Four frames; in Shared mode the side task of frames 0 and 2 runs as a force pass would run it,
-/// frames 1 and 3 are finished by the next write and by entries().
+/// Four frames; in Shared mode the side tasks of frames 0 and 2 run as two force passes would run
+/// them, frames 1 and 3 are finished by the next write and by entries().
 void write_series(const std::filesystem::path& dir, BackgroundFrames::Mode mode) {
   BackgroundFrames frames(FrameSeries(dir.string(), "plate"), mode);
   const std::size_t n = 500;
@@ -41,8 +41,11 @@ void write_series(const std::filesystem::path& dir, BackgroundFrames::Mode mode)
     EXPECT_EQ(task != nullptr, mode == BackgroundFrames::Mode::Shared);
     if (mode == BackgroundFrames::Mode::Shared) {
       EXPECT_FALSE(std::filesystem::exists(dir / name)) << "a shared frame waits for its task";
-      if (k % 2 == 0) {
+      if (k % 2 == 0) {  // two force passes: the encoding, then the file
         (*task)();
+        EXPECT_FALSE(std::filesystem::exists(dir / name)) << "encoded, not yet written";
+        ASSERT_NE(frames.side_task(), nullptr) << "the file is left to write";
+        (*frames.side_task())();
         EXPECT_TRUE(std::filesystem::exists(dir / name));
         EXPECT_EQ(frames.side_task(), nullptr) << "nothing left in flight";
       }

@@ -1,6 +1,7 @@
 // `dhpd bench --outputs`: what a scene's outputs and diagnostics cost in wall time. The scene runs
 // as it is and with one frame, no history rows, no crack measurement and no checkpoint, each run
 // a whole `dhpd run` process, the two alternating, so a drift of the machine's speed hits both.
+// Each run writes into an empty folder: removing the previous run's files is not timed.
 #include <fmt/ostream.h>
 #include <unistd.h>
 
@@ -26,16 +27,13 @@ double median_of(std::vector<double> v) {
   return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
 }
 
-/// Wall seconds of one `dhpd run` of the scene into `dir` with the `--set` overrides.
+/// Wall seconds of one `dhpd run` of the scene into `dir` (emptied first, untimed) with the
+/// `--set` overrides.
 double timed_run(const std::string& scene, const fs::path& dir,
                  const std::vector<std::string>& sets) {
-  std::vector<std::string> argv = {fs::canonical("/proc/self/exe").string(),
-                                   "run",
-                                   scene,
-                                   "-q",
-                                   "--overwrite",
-                                   "-o",
-                                   dir.string()};
+  fs::remove_all(dir);
+  std::vector<std::string> argv = {
+      fs::canonical("/proc/self/exe").string(), "run", scene, "-q", "-o", dir.string()};
   for (const auto& s : sets) argv.push_back("--set"), argv.push_back(s);
   long peak = 0;
   const auto log = dir.string() + ".log";
@@ -80,7 +78,7 @@ void run_outputs_bench(const BenchOptions& o, std::ostream& out) {
   fs::remove_all(dir);
   fmt::print(out,
              "dhpd bench --outputs: {}, {} pairs of whole `dhpd run` processes (after a warm-up "
-             "pair), wall seconds\n\n{:<46} {:>8} {:>8} {:>8}\n",
+             "pair), each into an empty folder, wall seconds\n\n{:<46} {:>8} {:>8} {:>8}\n",
              o.scene, o.repeats, "run", "median", "min", "max");
   print_times(out, "as the scene is", full);
   print_times(out, "one frame; no history, measurement, checkpoint", stripped);

@@ -72,8 +72,13 @@ const DamageGraph& GrowingDamageGraph::update(const ParticleStore& p, const Revi
   if (revision != revision_ || p.size() != size_ || !members_still_damaged(phi))
     restart(p, revision);
   const std::size_t before = members_.size();
-  for (std::size_t i = 0; i < p.size(); ++i)
-    if (!member_[i] && phi[i] >= threshold_) join(p, static_cast<std::int32_t>(i));
+  // The members are still damaged: as many damaged particles as members means none joined (a
+  // count the compiler vectorises, against a scan that checks membership particle by particle).
+  std::size_t damaged = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) damaged += phi[i] >= threshold_ ? 1 : 0;
+  if (damaged != before)
+    for (std::size_t i = 0; i < p.size(); ++i)
+      if (!member_[i] && phi[i] >= threshold_) join(p, static_cast<std::int32_t>(i));
   if (members_.size() != before || graph_.offset.empty()) {
     std::inplace_merge(members_.begin(), members_.begin() + static_cast<std::ptrdiff_t>(before),
                        members_.end());

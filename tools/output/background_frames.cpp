@@ -3,6 +3,7 @@
 
 #include <condition_variable>
 #include <exception>
+#include <functional>
 #include <mutex>
 #include <optional>
 #include <thread>
@@ -17,6 +18,7 @@ struct BackgroundFrames::Worker {
     std::int64_t step = 0;
     std::vector<double> points;
     std::vector<PointField> fields;
+    std::function<void()> complete;  ///< Shared: fills points and fields before the encoding
   };
 
   explicit Worker(FrameSeries s) : series(std::move(s)) {}
@@ -26,6 +28,7 @@ struct BackgroundFrames::Worker {
   std::mutex mutex;
   std::condition_variable changed;
   std::optional<Frame> pending;  ///< handed over, not yet written
+  bool encoded = false;          ///< Shared: the pending frame is encoded, its file not written
   bool stop = false;
   std::exception_ptr error;
   std::thread thread;  ///< last: started after every member above exists
@@ -50,22 +53,31 @@ struct BackgroundFrames::Worker {
       if (error) stop = true;  // no frame after a failed one
     }
   }
-  /// Shared: writes the pending frame here and now, keeping its error (no lock: a shared frame
-  /// is written by the force pass, while the thread that owns the frames waits for the pass).
-  void write_pending() noexcept {
+  /// Shared: the next half of the pending frame here and now, keeping its error: its encoding,
+  /// then (at the next call) its file, so a force pass beside it has rows enough to balance it.
+  /// No lock: a shared frame is written by the force pass, while the thread that owns the frames
+  /// waits for the pass.
+  void advance_pending() noexcept {
     if (!pending) return;
-    Frame f = std::move(*pending);
-    pending.reset();
-    if (error) return;
-    try {
-      series.write(f.time, f.step, f.points, f.fields);
-    } catch (...) {
-      error = std::current_exception();
+    if (!error) {
+      try {
+        if (!encoded) {
+          if (pending->complete) pending->complete();
+          series.prepare(pending->time, pending->step, pending->points, pending->fields);
+          encoded = true;
+          return;
+        }
+        series.commit();
+      } catch (...) {
+        error = std::current_exception();
+      }
     }
+    encoded = false;
+    pending.reset();
   }
-  /// Shared: writes the pending frame, then throws the error of a failed frame.
+  /// Shared: writes what is left of the pending frame, then throws the error of a failed frame.
   void finish_shared() {
-    write_pending();
+    while (pending) advance_pending();
     if (error) std::rethrow_exception(error);
   }
   /// Waits until nothing is in flight (lock held by the caller).
@@ -83,14 +95,15 @@ BackgroundFrames::BackgroundFrames(FrameSeries series, Mode mode)
   if (mode == Mode::Thread) w_->thread = std::thread([w = w_.get()] { w->run(); });
   if (mode == Mode::Shared) {
     w_->shared = true;
-    w_->task = [w = w_.get()] { w->write_pending(); };
+    w_->task = [w = w_.get()] { w->advance_pending(); };
   }
 }
 
 BackgroundFrames::BackgroundFrames(BackgroundFrames&&) noexcept = default;
 
 BackgroundFrames::~BackgroundFrames() {
-  if (w_ && w_->shared) w_->write_pending();
+  if (w_ && w_->shared)
+    while (w_->pending) w_->advance_pending();
   if (!w_ || !w_->thread.joinable()) return;
   {
     std::lock_guard lock(w_->mutex);
@@ -101,19 +114,21 @@ BackgroundFrames::~BackgroundFrames() {
 }
 
 void BackgroundFrames::write(double time, std::int64_t step, std::vector<double> points,
-                             std::vector<PointField> fields) {
+                             std::vector<PointField> fields, std::function<void()> complete) {
   if (w_->shared) {
     w_->finish_shared();
-    w_->pending = Worker::Frame{time, step, std::move(points), std::move(fields)};
+    w_->pending =
+        Worker::Frame{time, step, std::move(points), std::move(fields), std::move(complete)};
     return;
   }
+  if (complete) complete();
   if (!w_->thread.joinable()) {
     w_->series.write(time, step, points, fields);
     return;
   }
   std::unique_lock lock(w_->mutex);
   w_->rethrow(lock);
-  w_->pending = Worker::Frame{time, step, std::move(points), std::move(fields)};
+  w_->pending = Worker::Frame{time, step, std::move(points), std::move(fields), {}};
   w_->changed.notify_all();
 }
 

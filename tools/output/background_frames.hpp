@@ -1,9 +1,11 @@
 // Frames written while the run goes on (docs/outputs.md, "Frames in the background"): the run
 // hands a frame over with its own copy of the points and fields and goes on stepping while the
 // frame is encoded, compressed and written, either on a thread of its own or by one thread of the
-// next step's force pass (a SideTask). Content and file names are those of FrameSeries::write.
+// next two steps' force passes (SideTasks: the encoding, then the file). Content and file names
+// are those of FrameSeries::write.
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <utility>
@@ -32,10 +34,14 @@ class BackgroundFrames {
   BackgroundFrames& operator=(BackgroundFrames&&) = delete;
   ~BackgroundFrames();  ///< waits for the frame in flight; its error is dropped (call drain())
 
+  /// Hands a frame over. `complete`, when given, finishes filling `points` and `fields` (their
+  /// buffers, wherever the vectors are moved): Shared calls it where the frame is encoded, so the
+  /// run's next step may fill them first (io::FrameCopy); the other modes call it at once.
   void write(double time, std::int64_t step, std::vector<double> points,
-             std::vector<PointField> fields);
-  /// Shared: the work of the frame in flight, for one thread of the next force pass (nullptr when
-  /// none is; valid until the next call of any other member). Other modes: nullptr.
+             std::vector<PointField> fields, std::function<void()> complete = {});
+  /// Shared: the next half of the work of the frame in flight (its encoding, then its file), for
+  /// one thread of the next force pass (nullptr when no frame is in flight; valid until the next
+  /// call of any other member). Other modes: nullptr.
   const SideTask* side_task() const;
   /// Whether frames go to the next force pass (Mode::Shared).
   bool shared() const;

@@ -4,8 +4,6 @@
 
 #include <variant>
 
-#include "engine/output_fields.hpp"
-
 namespace dhpd::io {
 
 std::vector<double> frame_points(const Simulation& sim) {
@@ -28,6 +26,42 @@ std::vector<PointField> frame_fields(Simulation& sim, const std::vector<std::str
         v.values);
   }
   return out;
+}
+
+FrameCopy::FrameCopy(Simulation& sim, const std::vector<std::string>& names)
+    : points(3 * sim.particles().size()),
+      store_(sim.particles()),
+      points_to_(points.data()),
+      size_(static_cast<std::int64_t>(sim.particles().size())) {
+  fields.reserve(names.size());
+  for (const auto& n : names) {
+    const auto f = exported_store_field(sim.particles(), n);
+    auto v = f ? blank_values(*f, sim.particles().size()) : output_values(sim, n);
+    std::visit(
+        [&](auto& values) {
+          if (f) sources_.push_back({*f, values.data()});
+          fields.push_back({n, v.components, std::move(values)});  // the buffer moves along
+        },
+        v.values);
+  }
+}
+
+void FrameCopy::copy(std::int64_t begin, std::int64_t end) {
+  if (finished_.load(std::memory_order_relaxed)) return;
+  const auto& X = store_.reference_position;
+  for (std::int64_t i = begin; i < end; ++i)
+    for (int a = 0; a < 3; ++a) points_to_[3 * i + a] = X[a][i];
+  for (const auto& s : sources_) copy_values(s.field, s.to, begin, end);
+  copied_.fetch_add(end - begin, std::memory_order_relaxed);
+}
+
+void FrameCopy::finish() {
+  if (finished_.load(std::memory_order_relaxed)) return;
+  if (copied_.load(std::memory_order_relaxed) != size_) {
+    copied_.store(0, std::memory_order_relaxed);
+    copy(0, size_);
+  }
+  finished_.store(true, std::memory_order_relaxed);
 }
 
 }  // namespace dhpd::io

@@ -33,6 +33,12 @@ class FrameSeries {
   /// `points` holds 3 doubles per particle. Writes to a temporary file, then renames.
   void write(double time, std::int64_t step, const std::vector<double>& points,
              const std::vector<PointField>& fields);
+  /// write() in two parts, for a frame written over two force passes: prepare() checks and
+  /// encodes the frame (LZ4; zlib and none write it whole here), commit() writes its file and
+  /// lists it in the .pvd. Between them nothing but commit() is called.
+  void prepare(double time, std::int64_t step, const std::vector<double>& points,
+               const std::vector<PointField>& fields);
+  void commit();
   std::size_t frames_written() const { return entries_.size(); }
   /// (time, file) of every frame listed in the .pvd.
   const std::vector<std::pair<double, std::string>>& entries() const { return entries_; }
@@ -48,6 +54,8 @@ class FrameSeries {
   /// The LZ4 frames' writer and its encoded arrays (vtu_lz4.hpp); null for zlib and none, which
   /// VTK writes.
   std::shared_ptr<Lz4VtuWriter> lz4_;
+  struct Prepared;
+  std::shared_ptr<Prepared> prepared_;                   ///< between prepare() and commit() (LZ4)
   std::vector<std::pair<double, std::string>> entries_;  ///< (time, file name)
 };
 

@@ -26,12 +26,21 @@ class Lz4VtuWriter {
 
   /// One encoded array: its XML attributes' values and its appended bytes (header and blocks).
   struct Encoded {
-    std::uint64_t hash[2] = {0, 0};  ///< of the bytes it was encoded from (two 64-bit hashes)
+    std::uint64_t hash[2] = {0, 0};  ///< XXH3-128 of the bytes it was encoded from
     std::size_t bytes = 0;
     bool valid = false;
     std::string range_min, range_max;
     std::vector<char> appended;
   };
+  /// A frame encoded and not yet written: the XML part and the arrays in file order (pointing
+  /// into the writer's cache: valid until the next encode_frame or write).
+  struct Encoding {
+    std::string xml;
+    std::vector<const Encoded*> arrays;
+  };
+  /// The first half of write(): every array encoded (unchanged ones keep their blocks).
+  Encoding encode_frame(double time, std::int64_t step, const std::vector<std::string>& materials,
+                        const std::vector<double>& points, const std::vector<PointField>& fields);
 
  private:
   /// The array `key` of this frame: the previous frame's encoding when its `bytes` bytes at

@@ -1,6 +1,8 @@
 // Parts of the run loop (tools/runner.cpp): the frame schedule, the refinement and crack hooks
 // with their CSV logs, and the log lines of a run.
 #pragma once
+#include <algorithm>
+#include <atomic>
 #include <cstdint>
 #include <exception>
 #include <filesystem>
@@ -116,15 +118,20 @@ struct CrackHook {
   }
 
   /// The measurement of the current state, taken later by side_task() (one thread of the next
-  /// step's force pass) or flush(): the damage, the one field a step changes that it reads, is
-  /// copied now; the particles' other fields stay those of this state until the next edit, and
-  /// the run calls flush() after every step, before anything edits or reads the measurements.
+  /// step's force pass) or flush(). The damage, the one field a step changes that it reads, is
+  /// copied by the next step's threads before they change it (before_change()); the particles'
+  /// other fields stay those of this state until the next edit, and the run calls flush() after
+  /// every step, before anything edits or reads the measurements.
   void defer_measurement(const Simulation& sim) {
     flush();
     const auto& p = sim.particles();
-    damage_copy.assign(p.damage.begin(), p.damage.end());
+    damage_copy.resize(p.size());
+    copied.store(0, std::memory_order_relaxed);
     deferred = Deferred{&p, sim.steps_done(), sim.time(), {sim.generation(), sim.layout_version()}};
   }
+  /// The copy of the damage for the next step's threads (StepExtras::before_change; nullptr when
+  /// no measurement is waiting).
+  const RangeTask* before_change() const { return deferred ? &copy_task : nullptr; }
   /// The deferred measurement's work, for the next force pass (nullptr when none is waiting).
   const SideTask* side_task() const { return deferred ? &task : nullptr; }
   io::CrackReport report() const { return {rayleigh_speed, tracker.summary(), published}; }
@@ -152,16 +159,26 @@ struct CrackHook {
     if (!deferred) return;
     const Deferred d = *deferred;
     deferred.reset();
+    // Without a whole copy no step got as far as changing the damage: it is still this state's.
+    const bool whole =
+        copied.load(std::memory_order_relaxed) == static_cast<std::int64_t>(damage_copy.size());
     try {
-      write_rows(*d.particles, d.step, d.time, d.revision, damage_copy.data());
+      write_rows(*d.particles, d.step, d.time, d.revision,
+                 whole ? damage_copy.data() : d.particles->damage.data());
     } catch (...) {
       error = std::current_exception();
     }
   }
   std::vector<double> damage_copy;
+  std::atomic<std::int64_t> copied{0};  ///< particles of damage_copy written
   std::optional<Deferred> deferred;
   std::exception_ptr error;
   SideTask task{[this] { run_deferred(); }};
+  RangeTask copy_task{[this](std::int64_t begin, std::int64_t end) {
+    const double* from = deferred->particles->damage.data();
+    std::copy(from + begin, from + end, damage_copy.begin() + begin);
+    copied.fetch_add(end - begin, std::memory_order_relaxed);
+  }};
 };
 
 /// Per material of the scene: its particles, the bonds they own and how many of those are broken.

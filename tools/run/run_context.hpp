@@ -5,6 +5,7 @@
 #include <chrono>
 #include <filesystem>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -78,6 +79,7 @@ struct RunContext {
                           ///< log line per checkpoint
   std::vector<std::string> command_words{};  ///< the command line, for the restart hint
   LastGood good{};
+  RangeTask frame_copy{};  ///< copies the frame handed over after the last step (or empty)
 
   /// The crack measurement of this step when due: deferred to the next force pass (CrackHook::
   /// defer_measurement) where frames are (a team on every core), at once for the last step.
@@ -88,11 +90,26 @@ struct RunContext {
     else
       cracks->take_measurement(sim);
   }
+  /// A frame of the current state. Where frames go to the next force passes, the particle
+  /// store's fields are copied by the next step's threads before they change them
+  /// (frame_before_change()); the frame's encoding finishes the copy when no step came first.
   void write_frame() {
     auto t = sim.timers().scope(Phase::Output);
-    frames.write(sim.time(), sim.steps_done(), io::frame_points(sim),
-                 io::frame_fields(sim, fields));
+    if (!frames.shared()) {
+      frames.write(sim.time(), sim.steps_done(), io::frame_points(sim),
+                   io::frame_fields(sim, fields));
+      return;
+    }
+    auto copy = std::make_shared<io::FrameCopy>(sim, fields);
+    frame_copy = [copy](std::int64_t begin, std::int64_t end) { copy->copy(begin, end); };
+    frames.write(sim.time(), sim.steps_done(), std::move(copy->points), std::move(copy->fields),
+                 [copy] { copy->finish(); });
   }
+  /// The copy of the frame handed over after the last step, for the next step's threads
+  /// (StepExtras::before_change; nullptr when none waits). Valid until step_done().
+  const RangeTask* frame_before_change() const { return frame_copy ? &frame_copy : nullptr; }
+  /// After a step: the frame's copy is made (or is finish()ed where it is encoded).
+  void step_done() { frame_copy = nullptr; }
   void record(bool frame) {
     const auto e = sim.energies();
     sim.check_stable(e);  // throws before anything of this state is written

@@ -18,7 +18,7 @@ bool is_run_output(const fs::path& p) {
   static const char* const names[] = {"summary.json",   "history.csv",         "refinement.csv",
                                       "cracks.csv",     "scene.resolved.yaml", "run.log",
                                       "checkpoint.bin", "checkpoint.prev.bin", "report.md",
-                                      "plots",          "units.json"};
+                                      "plots",          "units.json",          "summary.reserve"};
   const std::string name = p.filename().string();
   for (const char* n : names)
     if (name == n) return true;

@@ -149,22 +149,33 @@ void time_loop(RunContext& ctx, io::Progress& progress) {
     const bool records =
         k % ctx.scene.output.history_every == 0 || schedule.frame_due(k, sim.time() + sim.dt());
     {
-      // The frame and crack measurement handed over after the previous step are written by one
-      // thread of this step's force pass; a measurement still waiting is taken right after the
-      // step, even when the step throws (before anything restores or reads the state).
+      // What the previous step handed over: the step's threads first copy the fields of a frame
+      // and the damage of a crack measurement (before they change them); one thread of its force
+      // pass encodes the frame (and one of the next step's writes its file) and takes the
+      // measurement. A measurement still waiting is taken right after the step, also when the
+      // step throws (before anything restores or reads the state).
       const SideTask* frame = ctx.frames.side_task();
       const SideTask* crack = ctx.cracks ? ctx.cracks->side_task() : nullptr;
       const SideTask both = [frame, crack] {
         if (frame) (*frame)();
         if (crack) (*crack)();
       };
-      const struct FlushCracks {
-        CrackHook* cracks;
-        ~FlushCracks() {
-          if (cracks && std::uncaught_exceptions() > 0) cracks->flush_quietly();
+      const RangeTask* frame_copy = ctx.frame_before_change();
+      const RangeTask* crack_copy = ctx.cracks ? ctx.cracks->before_change() : nullptr;
+      const RangeTask copies = [frame_copy, crack_copy](std::int64_t begin, std::int64_t end) {
+        if (frame_copy) (*frame_copy)(begin, end);
+        if (crack_copy) (*crack_copy)(begin, end);
+      };
+      const struct AfterStep {
+        RunContext& ctx;
+        ~AfterStep() {
+          ctx.step_done();
+          if (ctx.cracks && std::uncaught_exceptions() > 0) ctx.cracks->flush_quietly();
         }
-      } flush_on_throw{ctx.cracks};
-      sim.step({.strain_energy = records, .side_task = frame || crack ? &both : nullptr});
+      } after_step{ctx};
+      sim.step({.strain_energy = records,
+                .side_task = frame || crack ? &both : nullptr,
+                .before_change = frame_copy || crack_copy ? &copies : nullptr});
       if (ctx.cracks) ctx.cracks->flush();
     }
     // A signal already caught starts no refinement event: the run stops after this step.
@@ -267,6 +278,9 @@ RunContext open_outputs(const scene::Scene& s, Simulation& sim, const fs::path& 
   std::vector<std::string> materials;
   for (const auto& m : s.materials) materials.push_back(m.name);
   io::write_text_atomically((dir / "units.json").string(), io::units_json());
+  // Room kept for summary.json: released just before it is written, so a run stopped by a full
+  // disk still leaves its summary (status io_error).
+  io::write_text_atomically((dir / "summary.reserve").string(), std::string(65536, ' '));
   const auto compression = s.output.compression == "zlib"   ? io::Compression::zlib
                            : s.output.compression == "none" ? io::Compression::none
                                                             : io::Compression::lz4;
@@ -406,6 +420,8 @@ void run_scene(const scene::Scene& s, const RunOptions& opt) {
       cracks->flush_quietly();
       sum.cracks = cracks->report();
     }
+    std::error_code ec;
+    fs::remove(dir / "summary.reserve", ec);
     io::write_summary((dir / "summary.json").string(), sum);
     run::log_end(log, sum);
   };
