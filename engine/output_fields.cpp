@@ -97,16 +97,19 @@ std::optional<FieldInfo> exported_store_field(ParticleStore& p, std::string_view
 }
 
 // A store field's values: vectors interleaved (3 per particle), indices and flags as int32.
-FieldValues blank_values(const FieldInfo& f, std::size_t n) {
+FieldValues blank_values(const FieldInfo& f, std::size_t n,
+                         std::variant<std::vector<double>, std::vector<std::int32_t>> reuse) {
   return std::visit(
-      [n](const auto* data) {
+      [n, &reuse](const auto* data) {
         using T = std::remove_cv_t<std::remove_pointer_t<decltype(data)>>;
-        if constexpr (std::is_same_v<T, VectorArray>)
-          return FieldValues{3, std::vector<double>(3 * n)};
-        else if constexpr (std::is_same_v<T, ScalarArray>)
-          return FieldValues{1, std::vector<double>(n)};
-        else
-          return FieldValues{1, std::vector<std::int32_t>(n)};
+        constexpr int components = std::is_same_v<T, VectorArray> ? 3 : 1;
+        using Values =
+            std::conditional_t<std::is_same_v<T, VectorArray> || std::is_same_v<T, ScalarArray>,
+                               std::vector<double>, std::vector<std::int32_t>>;
+        Values values;
+        if (auto* held = std::get_if<Values>(&reuse)) values = std::move(*held);
+        values.resize(components * n);
+        return FieldValues{components, std::move(values)};
       },
       f.data);
 }

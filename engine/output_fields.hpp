@@ -31,8 +31,10 @@ FieldValues output_values(Simulation& sim, std::string_view name);
 
 /// The particle-store field exported as `name` (nullopt for a derived field or another name).
 std::optional<FieldInfo> exported_store_field(ParticleStore& p, std::string_view name);
-/// output_values of store field `f` laid out for `n` particles, not yet copied (zeros).
-FieldValues blank_values(const FieldInfo& f, std::size_t n);
+/// output_values of store field `f` laid out for `n` particles, not yet copied: zeros, or, in
+/// `reuse`'s array when its type fits, whatever that array held (copy_values overwrites it).
+FieldValues blank_values(const FieldInfo& f, std::size_t n,
+                         std::variant<std::vector<double>, std::vector<std::int32_t>> reuse = {});
 /// Copies particles [begin, end) of store field `f` to `out`, the data of its blank_values:
 /// threads may copy disjoint ranges at once.
 void copy_values(const FieldInfo& f, std::variant<double*, std::int32_t*> out, std::int64_t begin,

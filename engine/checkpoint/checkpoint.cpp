@@ -186,19 +186,27 @@ std::vector<std::byte> encode_checkpoint(const CheckpointParts& parts) {
   return bytes;
 }
 
-void write_checkpoint_file(const std::string& path, const std::string& scene_text,
-                           const Simulation& sim, std::span<const std::byte> run_state,
-                           const std::string& previous) {
+std::unique_ptr<AtomicFile> stage_checkpoint_file(const std::string& path,
+                                                  const std::string& scene_text,
+                                                  const Simulation& sim,
+                                                  std::span<const std::byte> run_state) {
   archive::Writer count(true);
   CheckpointAccess::save(sim, count);
-  AtomicFile file(path);
-  file.write(blank_header());
+  auto file = std::make_unique<AtomicFile>(path);
+  file->write(blank_header());
   const auto tail = store_payload(
       scene_text, sim.fingerprint(), count.size(),
       [&](archive::Writer& w) { CheckpointAccess::save(sim, w); }, run_state,
-      [&](std::span<const std::byte> b) { file.write(b); });
-  file.write_at(16, tail);
-  file.commit(previous);
+      [&](std::span<const std::byte> b) { file->write(b); });
+  file->write_at(16, tail);
+  file->sync();
+  return file;
+}
+
+void write_checkpoint_file(const std::string& path, const std::string& scene_text,
+                           const Simulation& sim, std::span<const std::byte> run_state,
+                           const std::string& previous) {
+  stage_checkpoint_file(path, scene_text, sim, run_state)->commit(previous);
 }
 
 CheckpointParts decode_checkpoint(std::span<const std::byte> bytes, const std::string& source) {

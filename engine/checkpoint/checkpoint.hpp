@@ -80,6 +80,15 @@ void write_checkpoint_file(const std::string& path, const std::string& scene_tex
                            const Simulation& sim, std::span<const std::byte> run_state,
                            const std::string& previous = {});
 
+class AtomicFile;
+/// write_checkpoint_file up to its commit: the whole file written and synced under its temporary
+/// name, so that commit(previous) only renames it. Lets the caller finish other files first that
+/// the checkpoint refers to (a frame), while this one is being written.
+std::unique_ptr<AtomicFile> stage_checkpoint_file(const std::string& path,
+                                                  const std::string& scene_text,
+                                                  const Simulation& sim,
+                                                  std::span<const std::byte> run_state);
+
 /// A file written as `path.tmp` and renamed onto `path` by commit() (after fsync; the folder is
 /// synced too). With `previous` non-empty, commit() first gives the old `path` that second name
 /// (a hard link), so at every moment `path` names a complete file. Without commit() the
@@ -92,11 +101,18 @@ class AtomicFile {
   AtomicFile& operator=(const AtomicFile&) = delete;
   void write(std::span<const std::byte> bytes);
   void write_at(std::size_t offset, std::span<const std::byte> bytes);
+  /// Flushes the temporary file to the disk and closes it (commit() does it when not done yet);
+  /// nothing can be written after it.
+  void sync();
   void commit(const std::string& previous = {});
 
  private:
+  /// Writes of at least this many bytes start their writeback at once (sync_file_range).
+  static constexpr std::size_t kStartWriteback = std::size_t{1} << 16;
   std::string path_, tmp_;
   int fd_ = -1;
+  std::size_t written_ = 0;  ///< bytes write() appended
+  bool synced_ = false, committed_ = false;
 };
 
 /// Writes `bytes` to `path` through an AtomicFile.

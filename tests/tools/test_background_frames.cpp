@@ -82,5 +82,38 @@ TEST(BackgroundFrames, AFailedFrameIsReportedAndStopsTheSeries) {
   }
 }
 
+TEST(BackgroundFrames, ListsTheFrameInFlightAsItWillBeWritten) {
+  test::TempDir tmp;
+  BackgroundFrames shared(FrameSeries((tmp.path() / "s").string(), "plate"),
+                          BackgroundFrames::Mode::Shared);
+  EXPECT_FALSE(shared.entries_once_written()) << "nothing in flight";
+  for (int k = 0; k < 3; ++k) {
+    shared.write(1e-6 * k, k, std::vector<double>(6, 0.0), fields_of(k, 2));
+    const auto listed = shared.entries_once_written();
+    ASSERT_TRUE(listed);
+    EXPECT_EQ(*listed, shared.entries()) << "frame " << k;
+  }
+  BackgroundFrames thread(FrameSeries((tmp.path() / "t").string(), "plate"),
+                          BackgroundFrames::Mode::Thread);
+  thread.write(0.0, 0, std::vector<double>(6, 0.0), fields_of(0, 2));
+  EXPECT_FALSE(thread.entries_once_written()) << "only shared frames are predicted";
+}
+
+TEST(BackgroundFrames, HandsBackTheArraysOfTheFrameWritten) {
+  test::TempDir tmp;
+  BackgroundFrames frames(FrameSeries(tmp.path().string(), "plate"),
+                          BackgroundFrames::Mode::Shared);
+  EXPECT_TRUE(frames.take_spent().points.empty()) << "no frame written yet";
+  frames.write(0.0, 0, std::vector<double>(30, 0.5), fields_of(1, 10));
+  EXPECT_TRUE(frames.take_spent().points.empty()) << "the frame is still in flight";
+  frames.drain();
+  auto spent = frames.take_spent();
+  EXPECT_EQ(spent.points, std::vector<double>(30, 0.5));
+  ASSERT_EQ(spent.fields.size(), 2u);
+  EXPECT_EQ(spent.fields[0].name, "velocity");
+  EXPECT_EQ(std::get<std::vector<double>>(spent.fields[0].values).size(), 30u);
+  EXPECT_TRUE(frames.take_spent().points.empty()) << "handed back once";
+}
+
 }  // namespace
 }  // namespace dhpd::io

@@ -4,6 +4,7 @@
 // spacings over a factor 4; and a tracker fed revisions measures the same rows as one without.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
 #include <random>
 
@@ -62,6 +63,24 @@ TEST_P(GrowingGraph, EqualsAGraphBuiltAnewAtEveryMeasurement) {
 
 INSTANTIATE_TEST_SUITE_P(Dimensions, GrowingGraph, ::testing::Values(1, 2, 3));
 
+TEST(GrowingGraph, ItsVersionChangesExactlyWhenTheGraphDoes) {
+  auto p = test::random_cloud(2, 1500, 0.02, 4.0, 3.015, 41);
+  std::mt19937_64 rng(9);
+  GrowingDamageGraph grown(0.35);
+  grow_damage(p, rng);
+  grown.update(p, {0, 0});
+  const auto first = grown.version();
+  grown.update(p, {0, 0});
+  EXPECT_EQ(grown.version(), first) << "nothing joined";
+  grow_damage(p, rng);
+  const auto size = grown.update(p, {0, 0}).particle.size();
+  EXPECT_NE(grown.version(), first) << "particles joined";
+  ASSERT_GT(size, 0u);
+  const auto second = grown.version();
+  grown.update(p, {1, 0});
+  EXPECT_NE(grown.version(), second) << "a new revision starts the graph again";
+}
+
 TEST(GrowingGraph, ATrackerWithRevisionsMeasuresTheSameRows) {
   auto p = test::random_cloud(2, 2000, 0.01, 2.0, 3.015, 31);
   Settings s;
@@ -71,8 +90,13 @@ TEST(GrowingGraph, ATrackerWithRevisionsMeasuresTheSameRows) {
   CrackTracker grown(s), fresh(s);
   std::mt19937_64 rng(3);
   double longest = 0.0;
-  for (int m = 0; m < 10; ++m) {
-    grow_damage(p, rng);
+  // Every other measurement sees the damage of the one before (the grown tracker then reuses
+  // its crack paths and branches); at 13 the state goes back (a member's damage falls).
+  for (int m = 0; m < 20; ++m) {
+    if (m % 2 == 0) grow_damage(p, rng);
+    if (m == 13)
+      *std::find_if(p.damage.begin(), p.damage.end(),
+                    [&](double d) { return d >= s.damage_threshold; }) = 0.0;
     const auto a = grown.measure(p, m, 1e-6 * m, Revision{0, 0});
     const auto b = fresh.measure(p, m, 1e-6 * m);
     ASSERT_EQ(a.size(), b.size());

@@ -192,16 +192,33 @@ std::vector<TipRow> CrackTracker::measure(const ParticleStore& p, std::int64_t s
   DamageGraph built;
   if (!revision) built = damage_graph(p, s_.damage_threshold);
   const DamageGraph& g = revision ? graph_.update(p, *revision, damage) : built;
+  const auto version = revision ? std::optional(graph_.version()) : std::nullopt;
   std::vector<TipRow> rows;
-  for (std::size_t k = 0; k < s_.tips.size(); ++k) rows.push_back(measure_tip(g, p, k, step, time));
+  for (std::size_t k = 0; k < s_.tips.size(); ++k)
+    rows.push_back(measure_tip(g, p, k, step, time, version));
   return rows;
 }
 
+const CrackTracker::CrackShape& CrackTracker::shape_of(const DamageGraph& g, const ParticleStore& p,
+                                                       std::size_t k,
+                                                       std::optional<std::uint64_t> graph_version) {
+  shapes_.resize(s_.tips.size());
+  auto& shape = shapes_[k];
+  if (graph_version && shape.graph_version == graph_version) return shape;
+  const Tip& tip = s_.tips[k];
+  shape.crack = crack_path(g, p, tip.at, tip.region ? &*tip.region : nullptr);
+  shape.branches = count_branches(g, shape.crack, p, s_.branch_separation, tip.front);
+  shape.graph_version = graph_version;
+  return shape;
+}
+
 TipRow CrackTracker::measure_tip(const DamageGraph& g, const ParticleStore& p, std::size_t k,
-                                 std::int64_t step, double time) {
+                                 std::int64_t step, double time,
+                                 std::optional<std::uint64_t> graph_version) {
   const Tip& tip = s_.tips[k];
   Track& t = tracks_[k];
-  const CrackPath crack = crack_path(g, p, tip.at, tip.region ? &*tip.region : nullptr);
+  const CrackShape& shape = shape_of(g, p, k, graph_version);
+  const CrackPath& crack = shape.crack;
   TipRow r{step, time, k, tip.at};
   double horizon = kInfinity;  // nothing cracked: never initiated
   if (crack.tip >= 0) {
@@ -228,7 +245,7 @@ TipRow CrackTracker::measure_tip(const DamageGraph& g, const ParticleStore& p, s
     t.max_speed = std::max(t.max_speed.value_or(0.0), r.speed);
   t.angle_deg = std::isnan(r.angle_deg) ? std::nullopt : std::optional<double>(r.angle_deg);
   if (!t.initial_angle && r.distance >= kInitialHorizons * horizon) t.initial_angle = t.angle_deg;
-  const Branches branches = count_branches(g, crack, p, s_.branch_separation, tip.front);
+  const Branches& branches = shape.branches;
   r.branches = branches.count;
   if (branches.count > std::max(t.most_branches, 1)) {  // 0 -> 1 is the crack, not a branch
     t.branch_times.push_back(time);

@@ -159,12 +159,23 @@ class CrackTracker {
     std::vector<double> branch_speeds;    ///< the tip's speed where each branching was found
     std::optional<double> initial_angle;  ///< chord angle once the tip is kInitialHorizons out
   };
+  /// A tip's crack path and branches on one version of the grown graph (a cache: not archived).
+  struct CrackShape {
+    std::optional<std::uint64_t> graph_version;
+    CrackPath crack;
+    Branches branches;
+  };
+  /// `graph_version`: the grown graph's version when `g` is it (its shape is then reused while
+  /// the graph stays), nullopt for a graph built for this measurement.
   TipRow measure_tip(const DamageGraph& g, const ParticleStore& p, std::size_t k, std::int64_t step,
-                     double time);
+                     double time, std::optional<std::uint64_t> graph_version);
+  const CrackShape& shape_of(const DamageGraph& g, const ParticleStore& p, std::size_t k,
+                             std::optional<std::uint64_t> graph_version);
 
   Settings s_;
   std::vector<Track> tracks_;
   GrowingDamageGraph graph_{s_.damage_threshold};  ///< a cache: not archived
+  std::vector<CrackShape> shapes_;                 ///< per tip
 };
 
 /// Rayleigh speed (IJNME 2016 eq. 60) of the material of the particle nearest `at`.

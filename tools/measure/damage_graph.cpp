@@ -88,6 +88,7 @@ const DamageGraph& GrowingDamageGraph::update(const ParticleStore& p, const Revi
 }
 
 void GrowingDamageGraph::restart(const ParticleStore& p, const Revision& revision) {
+  ++version_;
   revision_ = revision;
   size_ = p.size();
   double widest = 0.0;
@@ -139,6 +140,7 @@ void GrowingDamageGraph::join(const ParticleStore& p, std::int32_t i) {
 }
 
 void GrowingDamageGraph::write_graph(std::size_t n) {
+  ++version_;
   node_of_.assign(n, -1);
   auto& g = graph_;
   g.particle = members_;

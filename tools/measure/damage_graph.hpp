@@ -44,6 +44,9 @@ class GrowingDamageGraph {
   /// `damage`: the particles' damage when not p.damage (a copy taken earlier, one per particle).
   const DamageGraph& update(const ParticleStore& p, const Revision& revision,
                             const double* damage = nullptr);
+  /// Changes whenever the graph update() returns changes (anything derived from one graph holds
+  /// while it stays).
+  std::uint64_t version() const { return version_; }
 
  private:
   struct Link {
@@ -57,6 +60,7 @@ class GrowingDamageGraph {
   void write_graph(std::size_t n);
 
   double threshold_;
+  std::uint64_t version_ = 0;
   Revision revision_{};
   std::size_t size_ = 0;
   double cell_ = 0.0;

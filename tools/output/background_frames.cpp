@@ -7,6 +7,7 @@
 #include <mutex>
 #include <optional>
 #include <thread>
+#include <utility>
 
 #include "engine/base/errors.hpp"
 
@@ -28,6 +29,7 @@ struct BackgroundFrames::Worker {
   std::mutex mutex;
   std::condition_variable changed;
   std::optional<Frame> pending;  ///< handed over, not yet written
+  FrameArrays spent;             ///< Shared: the arrays of the last frame written
   bool encoded = false;          ///< Shared: the pending frame is encoded, its file not written
   bool stop = false;
   std::exception_ptr error;
@@ -68,6 +70,7 @@ struct BackgroundFrames::Worker {
           return;
         }
         series.commit();
+        spent = {std::move(pending->points), std::move(pending->fields)};
       } catch (...) {
         error = std::current_exception();
       }
@@ -162,6 +165,18 @@ std::string BackgroundFrames::drain_quietly() {
 const std::vector<std::pair<double, std::string>>& BackgroundFrames::entries() {
   drain();
   return w_->series.entries();
+}
+
+FrameArrays BackgroundFrames::take_spent() {
+  return std::exchange(w_->spent, {});
+}
+
+std::optional<std::vector<std::pair<double, std::string>>> BackgroundFrames::entries_once_written()
+    const {
+  if (!w_->shared || !w_->pending || w_->error) return std::nullopt;
+  auto out = w_->series.entries();
+  out.emplace_back(w_->pending->time, w_->series.next_file());
+  return out;
 }
 
 void BackgroundFrames::resume(std::vector<std::pair<double, std::string>> entries) {

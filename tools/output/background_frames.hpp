@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -15,6 +16,12 @@
 #include "tools/output/vtk_writer.hpp"
 
 namespace dhpd::io {
+
+/// A frame's points (3 doubles per particle) and fields.
+struct FrameArrays {
+  std::vector<double> points;
+  std::vector<PointField> fields;
+};
 
 /// At most one frame is in flight: write() waits for (or finishes) the previous frame before
 /// handing over the next, so memory holds one extra frame at most and frames land in order. An
@@ -51,6 +58,14 @@ class BackgroundFrames {
   std::string drain_quietly();
   /// (time, file) of every frame written (after drain()).
   const std::vector<std::pair<double, std::string>>& entries();
+  /// Shared with a frame in flight and no frame failed: what entries() will be once it is on
+  /// disk, without waiting for it (the run's last checkpoint is written beside it). Otherwise
+  /// nullopt.
+  std::optional<std::vector<std::pair<double, std::string>>> entries_once_written() const;
+  /// Shared: the arrays of the last frame written (once it is on disk), for the next frame to
+  /// fill instead of new ones (allocating and clearing them took the thread that makes frames
+  /// about 0.2 ms a frame on the default scene); empty otherwise or when taken already.
+  FrameArrays take_spent();
   /// FrameSeries::resume (after drain()).
   void resume(std::vector<std::pair<double, std::string>> entries);
 

@@ -28,15 +28,20 @@ std::vector<PointField> frame_fields(Simulation& sim, const std::vector<std::str
   return out;
 }
 
-FrameCopy::FrameCopy(Simulation& sim, const std::vector<std::string>& names)
-    : points(3 * sim.particles().size()),
+FrameCopy::FrameCopy(Simulation& sim, const std::vector<std::string>& names, FrameArrays reuse)
+    : points(std::move(reuse.points)),
       store_(sim.particles()),
-      points_to_(points.data()),
       size_(static_cast<std::int64_t>(sim.particles().size())) {
+  points.resize(3 * sim.particles().size());  // copy() writes every value
+  points_to_ = points.data();
   fields.reserve(names.size());
-  for (const auto& n : names) {
+  for (std::size_t k = 0; k < names.size(); ++k) {
+    const auto& n = names[k];
     const auto f = exported_store_field(sim.particles(), n);
-    auto v = f ? blank_values(*f, sim.particles().size()) : output_values(sim, n);
+    auto old = k < reuse.fields.size() && reuse.fields[k].name == n
+                   ? std::move(reuse.fields[k].values)
+                   : decltype(PointField::values){};
+    auto v = f ? blank_values(*f, sim.particles().size(), std::move(old)) : output_values(sim, n);
     std::visit(
         [&](auto& values) {
           if (f) sources_.push_back({*f, values.data()});

@@ -9,6 +9,7 @@
 
 #include "engine/output_fields.hpp"
 #include "engine/simulation.hpp"
+#include "tools/output/background_frames.hpp"
 #include "tools/output/vtk_writer.hpp"
 
 namespace dhpd::io {
@@ -25,7 +26,9 @@ std::vector<PointField> frame_fields(Simulation& sim, const std::vector<std::str
 /// the copies go to their arrays wherever they are.
 class FrameCopy {
  public:
-  FrameCopy(Simulation& sim, const std::vector<std::string>& names);
+  /// `reuse`: the arrays of an earlier frame, filled instead of new ones where a field's name and
+  /// type match (BackgroundFrames::take_spent).
+  FrameCopy(Simulation& sim, const std::vector<std::string>& names, FrameArrays reuse = {});
   FrameCopy(const FrameCopy&) = delete;
   FrameCopy& operator=(const FrameCopy&) = delete;
   /// Copies particles [begin, end); threads may copy disjoint ranges at once. Nothing after
@@ -45,7 +48,7 @@ class FrameCopy {
   };
   const ParticleStore& store_;
   std::vector<Source> sources_;
-  double* points_to_;
+  double* points_to_ = nullptr;
   std::int64_t size_;
   std::atomic<std::int64_t> copied_{0};
   std::atomic<bool> finished_{false};

@@ -219,10 +219,14 @@ void FrameSeries::write(double time, std::int64_t step, const std::vector<double
   commit();
 }
 
+std::string FrameSeries::next_file() const {
+  return fmt::format("{}_{:06d}.vtu", name_, entries_.size());
+}
+
 void FrameSeries::prepare(double time, std::int64_t step, const std::vector<double>& points,
                           const std::vector<PointField>& fields) {
   ensure_directory(directory_);
-  const std::string file = fmt::format("{}_{:06d}.vtu", name_, entries_.size());
+  const std::string file = next_file();
   check_shapes(points, fields);
   if (lz4_) {  // LZ4 frames without VTK: unchanged arrays keep their compressed blocks
     prepared_ = std::make_shared<Prepared>(

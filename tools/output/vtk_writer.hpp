@@ -40,6 +40,8 @@ class FrameSeries {
                const std::vector<PointField>& fields);
   void commit();
   std::size_t frames_written() const { return entries_.size(); }
+  /// The file name the next frame gets (also while one is prepared and not committed).
+  std::string next_file() const;
   /// (time, file) of every frame listed in the .pvd.
   const std::vector<std::pair<double, std::string>>& entries() const { return entries_; }
   /// Continues a series whose frames `entries` exist (a restart): rewrites the .pvd to list

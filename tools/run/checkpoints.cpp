@@ -82,17 +82,30 @@ std::string first_difference(const std::string& checkpoint_text, const std::stri
                      show(a, k), show(b, k));
 }
 
-std::size_t write_checkpoint(const std::string& path, const Simulation& sim, const RunState& state,
-                             const std::string& scene_text) {
+StagedCheckpoint::StagedCheckpoint(std::string path, std::unique_ptr<AtomicFile> file)
+    : path_(std::move(path)), file_(std::move(file)) {}
+StagedCheckpoint::StagedCheckpoint(StagedCheckpoint&&) noexcept = default;
+StagedCheckpoint::~StagedCheckpoint() = default;
+
+std::size_t StagedCheckpoint::commit() {
+  file_->commit((fs::path(path_).parent_path() / "checkpoint.prev.bin").string());
+  file_.reset();
+  std::error_code ec;
+  return static_cast<std::size_t>(fs::file_size(path_, ec));
+}
+
+StagedCheckpoint stage_checkpoint(const std::string& path, const Simulation& sim,
+                                  const RunState& state, const std::string& scene_text) {
   archive::Writer run;
   run_fields(state, run);
   run(static_cast<std::uint8_t>(state.cracks != nullptr));
   if (state.cracks) measure::CrackTracker::archive_state(std::as_const(*state.cracks), run);
-  const fs::path where(path);
-  write_checkpoint_file(path, scene_text, sim, run.bytes(),
-                        (where.parent_path() / "checkpoint.prev.bin").string());
-  std::error_code ec;
-  return static_cast<std::size_t>(fs::file_size(path, ec));
+  return {path, stage_checkpoint_file(path, scene_text, sim, run.bytes())};
+}
+
+std::size_t write_checkpoint(const std::string& path, const Simulation& sim, const RunState& state,
+                             const std::string& scene_text) {
+  return stage_checkpoint(path, sim, state, scene_text).commit();
 }
 
 void load_checkpoint(const std::string& path, Simulation& sim, RunState& state,

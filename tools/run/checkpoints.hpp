@@ -4,6 +4,7 @@
 // or other --set overrides is refused with the first line that differs.
 #pragma once
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -13,6 +14,8 @@
 #include "tools/scene/scene.hpp"
 
 namespace dhpd {
+
+class AtomicFile;
 
 /// The run loop's state at a checkpoint (after the step `Simulation::steps_done()`).
 struct RunState {
@@ -38,6 +41,23 @@ std::string checkpoint_path(const std::string& where);
 /// same folder) until the new one is complete. Returns its size in bytes.
 std::size_t write_checkpoint(const std::string& path, const Simulation& sim, const RunState& state,
                              const std::string& scene_text);
+
+/// write_checkpoint in two parts: stage_checkpoint writes and syncs the whole file under its
+/// temporary name; commit() renames it (the old one kept as checkpoint.prev.bin until then) and
+/// returns its size. Dropped without commit(), nothing of it stays.
+class StagedCheckpoint {
+ public:
+  StagedCheckpoint(std::string path, std::unique_ptr<AtomicFile> file);
+  StagedCheckpoint(StagedCheckpoint&&) noexcept;
+  ~StagedCheckpoint();
+  std::size_t commit();
+
+ private:
+  std::string path_;
+  std::unique_ptr<AtomicFile> file_;
+};
+StagedCheckpoint stage_checkpoint(const std::string& path, const Simulation& sim,
+                                  const RunState& state, const std::string& scene_text);
 
 /// Restores `sim` (built from the same scene) and `state` (with `state.cracks` set when the scene
 /// measures). Throws InputError (exit 2) when the file is missing, truncated, corrupted, or was

@@ -100,7 +100,7 @@ struct RunContext {
                    io::frame_fields(sim, fields));
       return;
     }
-    auto copy = std::make_shared<io::FrameCopy>(sim, fields);
+    auto copy = std::make_shared<io::FrameCopy>(sim, fields, frames.take_spent());
     frame_copy = [copy](std::int64_t begin, std::int64_t end) { copy->copy(begin, end); };
     frames.write(sim.time(), sim.steps_done(), std::move(copy->points), std::move(copy->fields),
                  [copy] { copy->finish(); });
@@ -122,11 +122,17 @@ struct RunContext {
   }
   /// The run loop's state now (what a checkpoint of the current state saves). Without `frames`
   /// its list of frames stays empty and nothing waits for a frame in flight.
-  RunState run_state(bool with_frames = true) {
+  /// `frames_listed`: the frames to list instead (entries_once_written()).
+  RunState run_state(
+      bool with_frames = true,
+      std::optional<std::vector<std::pair<double, std::string>>> frames_listed = {}) {
     if (cracks) cracks->flush();
     RunState st = *state;
     st.schedule_position = schedule->position();
-    if (with_frames) st.frames = frames.entries();
+    if (frames_listed)
+      st.frames = std::move(*frames_listed);
+    else if (with_frames)
+      st.frames = frames.entries();
     st.history_bytes = history.bytes();
     st.refinement_bytes = hook ? hook->csv->bytes() : 0;
     st.cracks_bytes = cracks ? cracks->csv.bytes() : 0;
@@ -181,7 +187,15 @@ struct RunContext {
     st = run_state();
     auto t = sim.timers().scope(Phase::Output);
     const auto begin = std::chrono::steady_clock::now();
-    const auto bytes = write_checkpoint(checkpoint_file.string(), sim, st, scene_text);
+    log_checkpoint(write_checkpoint(checkpoint_file.string(), sim, st, scene_text), begin);
+  }
+  /// After the last step: every frame on disk (a failed one throws its IoError) and the final
+  /// checkpoint (one that cannot be written leaves `unsaved` and a warning: the run is complete).
+  /// Where the last frame is still to be written by the run's threads, one thread finishes it while
+  /// another writes and syncs the checkpoint under its temporary name; the checkpoint takes its
+  /// name only once the frame is on disk, so it never lists a frame that is not.
+  void finish_with_checkpoint();
+  void log_checkpoint(std::size_t bytes, std::chrono::steady_clock::time_point begin) {
     last_checkpoint_wall = elapsed();
     log->line(fmt::format(
         "dhpd: checkpoint after step {}: {} ({:.1f} MB in {:.3f} s)", sim.steps_done(),

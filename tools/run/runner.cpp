@@ -201,14 +201,11 @@ void time_loop(RunContext& ctx, io::Progress& progress) {
     }
   }
   progress.finish();
-  ctx.frames.drain();  // a frame that failed is an IoError of the run, not of the checkpoint
-  if (ctx.scene.output.checkpoint_every.value_or(1) == 0) return;
-  try {  // the run is complete: a checkpoint that cannot be written does not undo it
-    ctx.checkpoint();
-  } catch (const IoError& e) {
-    ctx.unsaved = std::string("the final checkpoint was not written: ") + e.what();
-    ctx.log->line("dhpd: warning: " + ctx.unsaved);
+  if (ctx.scene.output.checkpoint_every.value_or(1) == 0) {
+    ctx.frames.drain();  // a frame that failed is an IoError of the run
+    return;
   }
+  ctx.finish_with_checkpoint();
 }
 
 /// The CSV files whose length a checkpoint records.
