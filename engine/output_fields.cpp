@@ -32,6 +32,14 @@ struct Derived {
   FieldValues (*values)(Simulation& sim);
 };
 
+/// The time level of each particle (docs/theory.md §19); 0 everywhere under one global step.
+std::vector<std::int32_t> time_levels_of(const Simulation& sim) {
+  std::vector<std::int32_t> out(sim.particles().size(), 0);
+  if (const auto* t = sim.time_levels())
+    for (std::size_t i = 0; i < out.size(); ++i) out[i] = t->level[i];
+  return out;
+}
+
 const Derived kDerived[] = {
     {{"strain_energy_density", "J/m^3", "strain-energy density W_i of the own bonds", false},
      [](Simulation& sim) {
@@ -63,6 +71,12 @@ const Derived kDerived[] = {
        horizon_quadrature(sim.bonds(), sim.particles(), sim.setup().partial_volume,
                           sim.setup().section, q);
        return FieldValues{1, std::move(q)};
+     }},
+    {{"time_level", "-",
+      "time level: the particle steps at dt0 / 2^level (written by runs with time.multirate)",
+      false},
+     [](Simulation& sim) {
+       return FieldValues{1, time_levels_of(sim)};
      }},
 };
 

@@ -39,6 +39,8 @@ Simulation::Simulation(SimulationSetup setup)
   compute_forces();
   if (setup_.effects.fracture)
     compute_damage(bonds_, p_, setup_.partial_volume);  // then kept current by each step
+  // Several time levels (docs/theory.md §19): particles renumbered by level, the levels planned.
+  if (multirate_enabled() && choose_levels().count > 1) renumber();
   last_power_ = boundary_power();
   const auto e = energies();
   budget_.tolerance = setup_.energy_tolerance;
@@ -164,6 +166,20 @@ double Simulation::boundary_power() const {
 }
 
 void Simulation::step(StepExtras extras) {
+  std::int64_t evaluated = bonds_.own_bonds;  // directed bonds evaluated by the step
+  const double body_work = levels_ ? multirate_step(extras, evaluated) : verlet_step(extras);
+  finish_step(body_work);
+  bond_updates_ += evaluated;
+  if (extras.strain_energy && !levels_) {
+    auto t = timers_.scope(Phase::Diagnostics);
+    fused_energy_.strain = strain_energy_of_row_sums(fused_energy_.rows, p_);
+    fused_energy_.step = steps_;
+    fused_energy_.generation = generation_;
+    fused_energy_.layout = layout_version_;
+  }
+}
+
+double Simulation::verlet_step(const StepExtras& extras) {
   const double h = 0.5 * dt_;
   const auto n = static_cast<std::int64_t>(p_.size());
   const int dim = p_.dim();
@@ -212,6 +228,10 @@ void Simulation::step(StepExtras extras) {
       for (int a = 0; a < dim; ++a) p_.velocity[a][i] += h * p_.force_density[a][i] / p_.density[i];
     enforce_prescribed_velocity();
   }
+  return body_work;
+}
+
+void Simulation::finish_step(double body_work) {
   const double power = boundary_power();
   const double work = external_work_ + body_work + 0.5 * dt_ * (power + last_power_);
   {
@@ -230,14 +250,6 @@ void Simulation::step(StepExtras extras) {
   last_power_ = power;
   time_ += dt_;
   ++steps_;
-  bond_updates_ += bonds_.own_bonds;
-  if (extras.strain_energy) {
-    auto t = timers_.scope(Phase::Diagnostics);
-    fused_energy_.strain = strain_energy_of_row_sums(fused_energy_.rows, p_);
-    fused_energy_.step = steps_;
-    fused_energy_.generation = generation_;
-    fused_energy_.layout = layout_version_;
-  }
 }
 
 namespace {
@@ -294,12 +306,12 @@ Energies Simulation::energies() {
   e.kinetic = sums.kinetic;
   e.strain = strain_energy_from_step() ? fused_energy_.strain : strain_energy_total(bonds_, p_);
   e.external_work = external_work_;
-  e.verlet_correction = sums.correction;
+  e.verlet_correction = levels_ ? multirate_correction() : sums.correction;
   return e;
 }
 
 double Simulation::verlet_correction() const {
-  return particle_sums(p_, loads_, dt_).correction;
+  return levels_ ? multirate_correction() : particle_sums(p_, loads_, dt_).correction;
 }
 
 void Simulation::check_stable(const Energies& e) const {
@@ -342,6 +354,7 @@ Simulation::MemoryUse Simulation::memory_use() const {
        {&C_, &s0_, &particle_dt_, &kinetic_blocks_, &fused_energy_.rows, &kernel_points_.xyzv})
     m.other += v->capacity() * sizeof(double);
   m.other += touched_.capacity();
+  if (levels_) m.other += levels_->bytes();
   return m;
 }
 

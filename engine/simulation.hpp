@@ -16,6 +16,7 @@
 #include "engine/physics/loads.hpp"
 #include "engine/physics/material_law.hpp"
 #include "engine/physics/stability_guard.hpp"
+#include "engine/physics/time_levels.hpp"
 #include "geometry/crack.hpp"
 #include "geometry/lattice.hpp"
 
@@ -51,6 +52,12 @@ struct SimulationSetup {
   double safety = 0.5;
   std::optional<double> fixed_dt;
   StableStepEstimate stable_step = StableStepEstimate::Lanczos;
+  /// Multi-rate stepping (docs/theory.md §19): particles step at dt₀/2^ℓ by their time level.
+  /// true: on wherever the particles need more than one level; false or nullopt: one global step
+  /// (the default until the paper cases are validated with it, docs/theory.md §19.5).
+  std::optional<bool> multirate;
+  /// The most time levels a run may use (a particle that needs more is refused).
+  int max_time_levels = 8;
   bool spatial_sort = true;  ///< Morton-order the particles (ids keep the generation order)
   /// The body's shape, when known: refinement creates no particle outside it.
   std::optional<geometry::Shape> body;
@@ -126,6 +133,14 @@ class Simulation {
     for (std::int64_t k = 0; k < n; ++k) step();
   }
 
+  /// The time levels of multi-rate stepping (docs/theory.md §19), or null while one global step
+  /// rules (multi-rate off, or every particle at level 0). dt() is then dt₀.
+  const TimeLevels* time_levels() const { return levels_ ? &*levels_ : nullptr; }
+  /// After an edit of the discretisation (a refinement event), at a dt₀ boundary: the time levels
+  /// chosen again and the particles renumbered by level (a compaction) where multi-rate stepping
+  /// is on; nothing otherwise.
+  void relevel();
+
   /// Energies and momentum of the current state (deterministic sums).
   Energies energies();
   /// Whether energies() takes the strain energy from the last step's force pass (that step asked
@@ -200,8 +215,11 @@ class Simulation {
   double time() const { return time_; }
   double dt() const { return dt_; }
   double critical_dt() const { return critical_dt_; }
-  /// The caller (scene builder) refuses a fixed dt above critical_dt() with the scene location.
-  bool dt_is_stable() const { return dt_ <= critical_dt_; }
+  /// The largest dt the run may take: critical_dt(), or with time levels the stable step of the
+  /// coarsest particles (dt is then dt₀).
+  double dt_limit() const { return levels_ ? levels_->coarse_dt : critical_dt_; }
+  /// The caller (scene builder) refuses a fixed dt above dt_limit() with the scene location.
+  bool dt_is_stable() const { return dt_ <= dt_limit() * (levels_ ? 1.0 + 1e-12 : 1.0); }
   std::int64_t steps_done() const { return steps_; }
   std::int64_t broken_bonds() const { return broken_; }
   /// Directed bonds evaluated so far (own bonds summed over the steps): the benchmark's unit.
@@ -210,6 +228,9 @@ class Simulation {
  private:
   friend struct CheckpointAccess;  ///< engine/checkpoint.cpp: archives every member below
   void init_particles();
+  /// compact() without its energy ledger: renumbers (by time level, then Morton order), rebuilds
+  /// the rows and plans the levels.
+  void renumber();
   void update_bond_constants();
   void update_bond_constants(const std::vector<std::int32_t>& slots);
   /// Internal force densities plus body forces; with fracture, bonds break in the same pass.
@@ -218,6 +239,28 @@ class Simulation {
                       const SideTask* side = nullptr);
   void enforce_prescribed_velocity();
   double boundary_power() const;
+  /// One velocity-Verlet step of every particle; returns the body forces' work.
+  double verlet_step(const StepExtras& extras);
+  /// One dt₀ step of the multi-rate scheme (simulation_multirate.cpp); returns the body forces'
+  /// work and sets `evaluated` to the directed bonds it evaluated.
+  double multirate_step(const StepExtras& extras, std::int64_t& evaluated);
+  /// The end of a step: work ledger, the guard's kinetic check, clocks.
+  void finish_step(double body_work);
+  bool multirate_enabled() const;
+  /// Chooses the time levels of the current slots: the plans when more than one level is needed
+  /// (the slots must be sorted by level), none otherwise.
+  void plan_levels();
+  /// The sub-step of level l (dt₀/2^l) and, recursively, those of the finer levels.
+  void level_substep(int l, const SideTask* side);
+  void level_kick(int l);
+  void level_drift(int l);
+  /// F_l at the current positions (with fracture when `fracture`); level 0 adds the body forces.
+  void level_forces(int l, bool fracture, const SideTask* side);
+  LevelChoice choose_levels() const;
+  /// p.force_density = Σ_l F_l.
+  void sum_level_forces();
+  /// Energies::verlet_correction of the multi-rate scheme: 2 Σ_l (dt_l²/8) Σ V |F_l|²/ρ.
+  double multirate_correction() const;
   /// Throws InstabilityError; a NaN `energy` reports a non-finite state.
   [[noreturn]] void stop_unstable(const char* measured, double energy, double allowed,
                                   std::int64_t step, double time) const;
@@ -251,10 +294,14 @@ class Simulation {
   double lanczos_dt_ = 0.0, lanczos_bound_ = 0.0;
   double external_work_ = 0.0, last_power_ = 0.0;
   EnergyBudget budget_;
-  bool conservative_ = true;            ///< the model conserves energy (not classical-variable)
-  double blowup_factor_ = 2.0;          ///< plain energy above this × the balance is a blow-up
-  std::vector<double> kinetic_blocks_;  ///< guard scratch
-  kernel::PackedPoints kernel_points_;  ///< force kernel scratch (kernel::pack_points)
+  bool conservative_ = true;             ///< the model conserves energy (not classical-variable)
+  double blowup_factor_ = 2.0;           ///< plain energy above this × the balance is a blow-up
+  std::vector<double> kinetic_blocks_;   ///< guard scratch
+  kernel::PackedPoints kernel_points_;   ///< force kernel scratch (kernel::pack_points)
+  std::optional<TimeLevels> levels_;     ///< multi-rate plans (derived from the state)
+  std::int64_t level_evaluations_ = 0;   ///< directed bonds the current dt₀ step evaluated
+  std::int64_t levels_generation_ = -1;  ///< generation_ the plans were made at
+  std::vector<double> load_start_;       ///< multirate_step scratch: loaded displacements
   /// The strain energy a step's force pass computed, valid while steps_, generation_ and
   /// layout_version_ are still those it was computed at (not part of the state).
   struct FusedEnergy {

@@ -71,6 +71,7 @@ EditOutcome Simulation::commit_edit(const DiscretisationChange& change,
   // A fixed step stays while it is stable; otherwise the scene's safety applies to the new step.
   const bool keep_fixed = setup_.fixed_dt && *setup_.fixed_dt <= critical_dt_;
   dt_ = keep_fixed ? *setup_.fixed_dt : setup_.safety * critical_dt_;
+  levels_.reset();  // one global step at the finest particles' dt until relevel()
   inherit_loads(loads_, change.successor, change.predecessor);
   enforce_prescribed_velocity();
   internal_force_density(bonds_, p_, &dirty, nullptr, &kernel_points_);
@@ -101,11 +102,23 @@ EditOutcome Simulation::commit_edit(const DiscretisationChange& change,
 
 double Simulation::compact() {
   const auto start = std::chrono::steady_clock::now();
+  // New time levels change the shadow energy's correction: the ledger takes it as a mapping.
+  const double before = verlet_correction();
+  renumber();
+  budget_.mapping -= verlet_correction() - before;
+  return seconds_since(start);
+}
+
+void Simulation::renumber() {
   auto t = timers_.scope(Phase::Refine);
   const std::size_t n = p_.size();
   std::vector<geometry::Vec3> where(n);
   for (std::size_t i = 0; i < n; ++i) where[i] = point_of(p_.reference_position, i);
-  const auto order = geometry::morton_order(where, p_.dim());  // order[k]: old index of new k
+  auto order = geometry::morton_order(where, p_.dim());  // order[k]: old index of new k
+  if (multirate_enabled()) {  // by time level first (docs/theory.md §19)
+    const auto choice = choose_levels();
+    if (choice.count > 1) order = order_by_level(order, choice.level);
+  }
   std::vector<std::int32_t> new_index(n);
   for (std::size_t k = 0; k < n; ++k) new_index[static_cast<std::size_t>(order[k])] = k;
   p_ = gather(p_, order);
@@ -116,9 +129,9 @@ double Simulation::compact() {
   touched_.assign(n, 0);
   compute_forces();
   if (setup_.effects.fracture) compute_damage(bonds_, p_, setup_.partial_volume);
+  plan_levels();
   appended_since_compaction_ = 0;
   ++layout_version_;
-  return seconds_since(start);
 }
 
 }  // namespace dhpd

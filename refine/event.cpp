@@ -122,6 +122,7 @@ RefinementEvent split(Simulation& sim, const std::vector<std::int32_t>& parents,
   out.interfaces = done.interfaces;
   out.energy_change = done.energy_change;
   out.shadow_change = done.shadow_change;
+  const double mapped = sim.energy_budget().mapping;
   out.generation = sim.generation();
   out.parents = ev.plan.parents.size();
   out.children = ev.plan.child_slot.size();
@@ -139,6 +140,18 @@ RefinementEvent split(Simulation& sim, const std::vector<std::int32_t>& parents,
     sim.compact();
     es.grid(sim);  // renumbered slots: the grid is rebuilt now, as part of the compaction's cost
     out.resort_seconds = seconds_since(compaction);
+  }
+  // Multi-rate stepping: the time levels of the new particles (docs/theory.md §19); a renumbering
+  // by level is a compaction too.
+  const auto layout = sim.layout_version();
+  const auto relevel = std::chrono::steady_clock::now();
+  sim.relevel();
+  // A compaction or new time levels move the shadow energy (docs/theory.md §19): the ledger's.
+  out.shadow_change += sim.energy_budget().mapping - mapped;
+  if (sim.layout_version() != layout) {
+    out.resorted = true;
+    es.grid(sim);
+    out.resort_seconds += seconds_since(relevel);
   }
   return out;
 }

@@ -11,6 +11,13 @@ class InputError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// More time levels than the scene allows (time.max_levels): an InputError the scene reader
+/// places at that key.
+class TimeLevelError : public InputError {
+ public:
+  using InputError::InputError;
+};
+
 /// The run became unstable (NaN, energy blow-up): exit code 3, last good output kept.
 class InstabilityError : public std::runtime_error {
  public:

@@ -182,6 +182,7 @@ struct CheckpointAccess {
     s.touched_.assign(s.p_.size(), 0);
     s.edit_.reset();
     s.fused_energy_ = {};
+    s.plan_levels();  // the level forces of the restored positions
   }
 
   template <class Ar>
@@ -210,6 +211,7 @@ struct CheckpointAccess {
     s.fused_energy_ = {};
     // Damage follows from the flags (the stepper keeps it current between steps).
     if (s.setup_.effects.fracture) compute_damage(s.bonds_, s.p_, s.setup_.partial_volume);
+    s.plan_levels();  // derived: the levels, their plans and forces (docs/theory.md §19)
   }
 
   template <class V>

@@ -82,6 +82,40 @@ std::int64_t force_rows(const BondRows& rows, const kernel::Breaking& w, Particl
   return broken;
 }
 
+template <int Dim, bool Fracture>
+std::int64_t segment_rows(BondRows& rows, const kernel::Breaking& w, ParticleStore& p,
+                          const RowSegments& seg, const std::vector<double>& points,
+                          const SideTask* side) {
+  const kernel::Fields x{{p.position[0].data(), p.position[1].data(), p.position[2].data()},
+                         {seg.force[0].data(), Dim > 1 ? seg.force[1].data() : nullptr,
+                          Dim > 2 ? seg.force[2].data() : nullptr},
+                         nullptr,
+                         points.data()};
+  kernel::RowArrays r(rows, p);
+  r.start = seg.start;
+  r.count = seg.count;
+  const auto row = kernel::row_kernel<Dim, Fracture, false>(kernel::best_build());
+  const auto n = static_cast<std::int64_t>(seg.rows.size());
+  const bool has_side = side != nullptr && static_cast<bool>(*side);
+  std::int64_t broken = 0;
+#pragma omp parallel reduction(+ : broken) if (n >= kParallelMinParticles)
+  {
+    if (has_side) {
+#pragma omp single nowait
+      (*side)();
+    }
+#pragma omp for schedule(dynamic, 256) nowait
+    for (std::int64_t t = 0; t < n; ++t) {
+      const std::int64_t i = seg.rows[static_cast<std::size_t>(t)];
+      const std::int64_t broke = row(i, x, r, w);
+      if constexpr (Fracture)
+        if (broke) damage_of(*w.rows, p, w.constants->rule, static_cast<std::size_t>(i));
+      broken += broke;
+    }
+  }
+  return broken;
+}
+
 /// force_rows with the energy output when `energy` is given (sized to the store first).
 template <int Dim, bool Fracture>
 std::int64_t force_rows_with(const BondRows& rows, const kernel::Breaking& w, ParticleStore& p,
@@ -148,6 +182,16 @@ std::int64_t force_and_break(BondRows& b, ParticleStore& p, const BondConstants&
   const kernel::Breaking w{&b, &c};
   return with_dim(p.dim(), [&](auto d) {
     return force_rows_with<d(), true>(b, w, p, nullptr, row_energy, points, side);
+  });
+}
+
+std::int64_t segment_forces(BondRows& b, ParticleStore& p, const BondConstants* c,
+                            const RowSegments& seg, const std::vector<double>& points,
+                            const SideTask* side) {
+  const kernel::Breaking w{&b, c};
+  return with_dim(p.dim(), [&](auto d) {
+    return c ? segment_rows<d(), true>(b, w, p, seg, points, side)
+             : segment_rows<d(), false>(b, w, p, seg, points, side);
   });
 }
 

@@ -38,6 +38,23 @@ std::int64_t force_and_break(BondRows& bonds, ParticleStore& p, const BondConsta
                              kernel::PackedPoints* points = nullptr,
                              const SideTask* side = nullptr);
 
+/// One time level's part of the rows (docs/theory.md §19): rows `rows`, each only its entries
+/// [start[i], start[i] + count[i]), forces written to `force` (the other rows' are left alone).
+struct RowSegments {
+  const std::vector<std::int32_t>& rows;
+  const std::int64_t* start;
+  const std::int32_t* count;
+  VectorArray& force;
+};
+
+/// internal_force_density over row segments, with bond breaking fused in when `c` is given
+/// (force_and_break: a row that lost an own bond gets its whole damage refreshed). Reads the
+/// neighbours from `points`, which must hold the current positions (not packed here). Returns
+/// the bonds broken; `side` as internal_force_density.
+std::int64_t segment_forces(BondRows& bonds, ParticleStore& p, const BondConstants* c,
+                            const RowSegments& seg, const std::vector<double>& points,
+                            const SideTask* side = nullptr);
+
 /// φ_i = 1 − Σ μ β V_j / Σ β V_j over own bonds (docs/theory.md §8); written to p.damage.
 /// With `subset`, only those particles are updated.
 void compute_damage(const BondRows& bonds, ParticleStore& p, PartialVolume rule,

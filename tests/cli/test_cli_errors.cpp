@@ -20,6 +20,11 @@ void PrintTo(const BadScene& bad, std::ostream* os) {
 BadScene edit(std::string name, int line, const std::string& text, std::string expected) {
   return {std::move(name), with_line(kPlate, line, text), {}, std::move(expected)};
 }
+/// The plate with a patch of half spacing in it (two time levels).
+constexpr const char* kPatchBody =
+    "body=[{shape: box, min: [0, 0], max: [0.01, 0.005], spacing: 0.0005, material: glass}, "
+    "{shape: box, min: [0.004, 0.001], max: [0.006, 0.004], spacing: 0.00025, material: glass}]";
+
 /// kPlate with one `--set` override.
 BadScene set(std::string name, std::string override_text, std::string expected) {
   return {std::move(name), kPlate, {std::move(override_text)}, std::move(expected)};
@@ -75,6 +80,20 @@ std::vector<BadScene> bad_scenes() {
           "initial_conditions=[{region: {shape: box, min: [0.02, 0.02], max: [0.03, 0.03]}, "
           "velocity: [22.0, 0.0]}]",
           "--set initial_conditions.0.region: selects no particle"),
+      {"MultirateFixedStepAboveTheCoarseOne",
+       kPlate,
+       {kPatchBody, "time.multirate=true", "time.dt=1e-6"},
+       "bad.yaml:17: time.dt: 1e-06 s is above the stable step of the coarsest particles "
+       "(time.multirate) 1.50025e-07 s"},
+      {"MultirateNeedsMoreLevelsThanAllowed",
+       kPlate,
+       {kPatchBody, "time.multirate=true", "time.max_levels=1"},
+       "bad.yaml:17: time.max_levels: the particles need 2 time levels"},
+      set("MaxLevelsAboveTheLimit", "time.max_levels=20",
+          "--set time.max_levels: 20 time levels: the finest step would be dt0 / 2^19 (allowed: 1 "
+          "<= max_levels <= 16 (default 8))"),
+      set("MultirateNotABoolean", "time.multirate=maybe",
+          "--set time.multirate: expected true or false, got 'maybe'"),
       set("SetUnknownMapping", "effects.refinement={mapping: cubic}",
           "--set effects.refinement.mapping: unknown mapping 'cubic' (allowed: copy, linear, "
           "quadratic)"),

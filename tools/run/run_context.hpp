@@ -2,6 +2,7 @@
 // last good state the instability guard keeps, and checkpoints of the current state.
 #pragma once
 #include <fmt/format.h>
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <functional>
@@ -29,6 +30,8 @@ namespace fs = std::filesystem;
 inline std::vector<std::string> output_field_names(const scene::Scene& s) {
   auto names = scene::default_fields();
   for (const auto& f : s.output.fields) names.push_back(f);
+  const bool listed = std::find(names.begin(), names.end(), "time_level") != names.end();
+  if (s.time.multirate.value_or(false) && !listed) names.push_back("time_level");
   return names;
 }
 

@@ -172,6 +172,15 @@ SimulationSetup build_setup(const Scene& s) {
   setup.stable_step = s.time.stable_step;
   setup.fixed_dt = s.time.dt;
   setup.energy_tolerance = s.time.energy_tolerance;
+  setup.multirate = s.time.multirate;
+  setup.max_time_levels = s.time.max_levels;
+  if (s.refinement && s.time.multirate.value_or(false) &&
+      s.refinement->settings.max_level + 1 > s.time.max_levels)
+    fail({s.time.where.file, s.time.where.line, "time.max_levels"},
+         fmt::format("{} time levels, but refinement.max_level {} needs {}", s.time.max_levels,
+                     s.refinement->settings.max_level, s.refinement->settings.max_level + 1),
+         fmt::format("max_levels >= {} (or time.multirate: false)",
+                     s.refinement->settings.max_level + 1));
   return setup;
 }
 
@@ -238,15 +247,22 @@ void check_lonely(const Scene& s, const Simulation& sim, const std::vector<int>&
 std::unique_ptr<Simulation> build_simulation(const Scene& s) {
   auto setup = build_setup(s);
   const auto part_of = setup.points.part;  // the simulation keeps no points
-  auto sim = std::make_unique<Simulation>(std::move(setup));
+  std::unique_ptr<Simulation> sim;
+  try {
+    sim = std::make_unique<Simulation>(std::move(setup));
+  } catch (const TimeLevelError& e) {
+    fail({s.time.where.file, s.time.where.line, "time.max_levels"}, e.what(),
+         fmt::format("1 <= max_levels <= {}", kMaxTimeLevels));
+  }
   check_tips(s, sim->particles());
   check_lonely(s, *sim, part_of);
+  const char* limit = sim->time_levels() ? "stable step of the coarsest particles (time.multirate)"
+                                         : "stable time step";
   if (s.time.check_dt && !sim->dt_is_stable())
     fail({s.time.where.file, s.time.where.line, "time.dt"},
-         fmt::format("{:.6g} s is above the stable time step {:.6g} s", sim->dt(),
-                     sim->critical_dt()),
+         fmt::format("{:.6g} s is above the {} {:.6g} s", sim->dt(), limit, sim->dt_limit()),
          fmt::format("0 < dt <= {:.6g} (time.check_dt: false runs it anyway, to test the guard)",
-                     sim->critical_dt()));
+                     sim->dt_limit()));
   return sim;
 }
 

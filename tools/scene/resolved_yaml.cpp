@@ -215,6 +215,8 @@ void emit_time(YAML::Emitter& out, const TimeSpec& time) {
   out << YAML::Key << "stable_step" << YAML::Value
       << (time.stable_step == StableStepEstimate::Lanczos ? "lanczos" : "bound");
   out << YAML::Key << "energy_tolerance" << YAML::Value << number_text(time.energy_tolerance);
+  if (time.multirate) out << YAML::Key << "multirate" << YAML::Value << *time.multirate;
+  out << YAML::Key << "max_levels" << YAML::Value << time.max_levels;
   out << YAML::EndMap;
 }
 

@@ -84,6 +84,9 @@ struct LocatedBoundaryCondition {
   Location where;
 };
 
+/// The most time levels a scene may ask for (time.max_levels).
+inline constexpr int kMaxTimeLevels = 16;
+
 struct TimeSpec {
   std::optional<double> end;
   std::optional<std::int64_t> steps;
@@ -92,7 +95,11 @@ struct TimeSpec {
   bool check_dt = true;  ///< refuse a fixed dt above the stable step
   StableStepEstimate stable_step = StableStepEstimate::Lanczos;  ///< how Δt_crit is found
   double energy_tolerance = 0.01;  ///< the instability guard's energy bound (EnergyBudget)
-  Location where;                  ///< of the `time` map (dt checks refer to time.dt)
+  /// Multi-rate stepping (docs/theory.md §19): true steps each particle at its time level; unset
+  /// or false, one global step.
+  std::optional<bool> multirate;
+  int max_levels = 8;  ///< time levels a run may use
+  Location where;      ///< of the `time` map (dt checks refer to time.dt)
 };
 
 struct OutputSpec {

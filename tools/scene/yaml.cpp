@@ -185,8 +185,8 @@ void read_discretisation(const MapView& top, Scene& s) {
 }
 
 TimeSpec read_time(const Cursor& c) {
-  const MapView map(
-      c, {"end", "steps", "safety", "dt", "check_dt", "stable_step", "energy_tolerance"});
+  const MapView map(c, {"end", "steps", "safety", "dt", "check_dt", "stable_step",
+                        "energy_tolerance", "multirate", "max_levels"});
   TimeSpec time;
   time.where = c.where();
   if (map.has("end") == map.has("steps")) {
@@ -208,6 +208,14 @@ TimeSpec read_time(const Cursor& c) {
       tol->fail(
           fmt::format("energy_tolerance is a fraction of the energy scale, got {}", tol->text()),
           "0 < energy_tolerance <= 1 (default 0.01)");
+  }
+  if (const auto multirate = map.get("multirate")) time.multirate = multirate->boolean();
+  if (const auto levels = map.get("max_levels")) {
+    const auto n = detail::positive_integer(*levels);
+    if (n > kMaxTimeLevels)
+      levels->fail(fmt::format("{} time levels: the finest step would be dt0 / 2^{}", n, n - 1),
+                   fmt::format("1 <= max_levels <= {} (default 8)", kMaxTimeLevels));
+    time.max_levels = static_cast<int>(n);
   }
   return time;
 }

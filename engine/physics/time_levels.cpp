@@ -1,0 +1,136 @@
+// Time levels of multi-rate stepping (docs/theory.md §19).
+#include "engine/physics/time_levels.hpp"
+
+#include <fmt/core.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "engine/base/errors.hpp"
+
+namespace dhpd {
+namespace {
+
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+
+/// Levels by spacing: round(log2(h_max / h_i)), so a particle split k times is at level k.
+std::vector<int> spacing_levels(const ParticleStore& p) {
+  double widest = 0.0;
+  for (std::size_t i = 0; i < p.size(); ++i) widest = std::max(widest, p.spacing[i]);
+  std::vector<int> out(p.size(), 0);
+  for (std::size_t i = 0; i < p.size(); ++i)
+    out[i] = std::max(0, static_cast<int>(std::lround(std::log2(widest / p.spacing[i]))));
+  return out;
+}
+
+/// The smallest ℓ ≥ 0 with dt0 / 2^ℓ ≤ allowed (0 for an infinite allowance).
+int step_level(double dt0, double allowed) {
+  int l = 0;
+  while (l < 62 && dt0 / static_cast<double>(std::int64_t{1} << l) > allowed * (1.0 + 1e-12)) ++l;
+  return l;
+}
+
+}  // namespace
+
+LevelChoice choose_time_levels(const BondRows& rows, const ParticleStore& p,
+                               const LevelInputs& in) {
+  const std::size_t n = p.size();
+  double smallest = kInfinity;
+  for (const double b : in.particle_dt) smallest = std::min(smallest, b);
+  // Each particle's own stable step: its bound scaled by how far the run's tight step is above
+  // the smallest bound (docs/theory.md §19.1).
+  const double tight = std::isfinite(smallest) ? std::max(1.0, in.critical_dt / smallest) : 1.0;
+  const auto by_spacing = spacing_levels(p);
+  double coarse = kInfinity;  // the coarsest particles' stable step
+  for (std::size_t i = 0; i < n; ++i)
+    if (by_spacing[i] == 0) coarse = std::min(coarse, tight * in.particle_dt[i]);
+  LevelChoice out;
+  if (!std::isfinite(coarse)) coarse = in.critical_dt;
+  out.coarse_dt = coarse;
+  out.dt0 = in.fixed_dt.value_or(in.safety * coarse);
+  const double margin = in.fixed_dt ? 1.0 : in.safety;
+  std::vector<int> base(n);
+  for (std::size_t i = 0; i < n; ++i)
+    base[i] = std::max(by_spacing[i], step_level(out.dt0, margin * tight * in.particle_dt[i]));
+  // The buffer: a particle takes the finest level among the particles it shares a bond with.
+  out.level.resize(n);
+  int finest = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    int l = base[i];
+    for (auto k = rows.begin(i); k < rows.end(i); ++k)
+      l = std::max(l, base[static_cast<std::size_t>(rows.other[k])]);
+    finest = std::max(finest, l);
+    out.level[i] = static_cast<std::int8_t>(std::min(l, 127));
+  }
+  out.count = finest + 1;
+  if (out.count > in.max_levels)
+    throw TimeLevelError(fmt::format(
+        "the particles need {} time levels (steps dt0 / 2^0 ... dt0 / 2^{}, dt0 = {:.6g} s), more "
+        "than time.max_levels = {} allows (raise it, or time.multirate: false)",
+        out.count, finest, out.dt0, in.max_levels));
+  return out;
+}
+
+std::vector<std::int32_t> order_by_level(const std::vector<std::int32_t>& morton,
+                                         const std::vector<std::int8_t>& level) {
+  std::vector<std::int32_t> out(morton);
+  std::stable_sort(out.begin(), out.end(), [&](std::int32_t a, std::int32_t b) {
+    return level[static_cast<std::size_t>(a)] < level[static_cast<std::size_t>(b)];
+  });
+  return out;
+}
+
+std::size_t TimeLevels::bytes() const {
+  std::size_t b = level.capacity() + first.capacity() * sizeof(std::int64_t);
+  for (const auto& l : plans) {
+    b += l.rows.capacity() * 4 + l.start.capacity() * 8 + l.count.capacity() * 4 +
+         l.drift.capacity() * 4;
+    for (const auto& f : l.force) b += f.capacity() * sizeof(double);
+  }
+  return b;
+}
+
+TimeLevels plan_time_levels(const BondRows& rows, const ParticleStore& p, LevelChoice choice) {
+  const std::size_t n = p.size();
+  if (!std::is_sorted(choice.level.begin(), choice.level.end()))
+    throw EngineError("plan_time_levels: the particles are not sorted by level");
+  TimeLevels t;
+  t.dt0 = choice.dt0;
+  t.coarse_dt = choice.coarse_dt;
+  t.level = std::move(choice.level);
+  const int levels = choice.count;
+  t.first.assign(static_cast<std::size_t>(levels) + 1, static_cast<std::int64_t>(n));
+  for (std::size_t i = n; i-- > 0;) t.first[static_cast<std::size_t>(t.level[i])] = i;
+  for (int m = levels - 1; m >= 0; --m)
+    t.first[m] = std::min(t.first[m], t.first[static_cast<std::size_t>(m) + 1]);
+  t.plans.resize(static_cast<std::size_t>(levels));
+  for (auto& l : t.plans) {
+    l.start.assign(n, 0);
+    l.count.assign(n, 0);
+    for (int a = 0; a < p.dim(); ++a) l.force[a].assign(n, 0.0);
+  }
+  std::vector<std::int64_t> bound(static_cast<std::size_t>(levels) + 1);
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto begin = rows.other.begin() + rows.begin(i), end = rows.other.begin() + rows.end(i);
+    // bound[m]: the first entry whose neighbour is at level m or finer.
+    for (int m = 0; m <= levels; ++m)
+      bound[m] = rows.begin(i) + (std::lower_bound(begin, end, t.first[m]) - begin);
+    const int own = t.level[i];
+    int drift = own;
+    for (int l = own; l < levels; ++l) {
+      const std::int64_t from = l == own ? rows.begin(i) : bound[l], to = bound[l + 1];
+      if (to <= from) continue;
+      auto& plan = t.plans[static_cast<std::size_t>(l)];
+      plan.rows.push_back(static_cast<std::int32_t>(i));
+      plan.start[i] = from;
+      plan.count[i] = static_cast<std::int32_t>(to - from);
+      for (auto k = from; k < to; ++k) plan.own_bonds += rows.has_own(k) ? 1 : 0;
+      drift = l;
+    }
+    t.plans[static_cast<std::size_t>(drift)].drift.push_back(static_cast<std::int32_t>(i));
+  }
+  return t;
+}
+
+}  // namespace dhpd
