@@ -224,6 +224,13 @@ class Simulation {
   std::int64_t broken_bonds() const { return broken_; }
   /// Directed bonds evaluated so far (own bonds summed over the steps): the benchmark's unit.
   std::int64_t bond_updates() const { return bond_updates_; }
+  /// Multi-rate stepping in this process (docs/theory.md §19): directed bonds evaluated at each
+  /// level, and what one global step at each dt₀ step's finest level would have evaluated.
+  struct LevelCounts {
+    std::vector<std::int64_t> evaluated;
+    std::int64_t one_step = 0;
+  };
+  const LevelCounts& level_counts() const { return level_counts_; }
 
  private:
   friend struct CheckpointAccess;  ///< engine/checkpoint.cpp: archives every member below
@@ -300,6 +307,7 @@ class Simulation {
   kernel::PackedPoints kernel_points_;   ///< force kernel scratch (kernel::pack_points)
   std::optional<TimeLevels> levels_;     ///< multi-rate plans (derived from the state)
   std::int64_t level_evaluations_ = 0;   ///< directed bonds the current dt₀ step evaluated
+  LevelCounts level_counts_;             ///< not archived: this process's steps
   std::int64_t levels_generation_ = -1;  ///< generation_ the plans were made at
   std::vector<double> load_start_;       ///< multirate_step scratch: loaded displacements
   /// The strain energy a step's force pass computed, valid while steps_, generation_ and

@@ -71,6 +71,9 @@ double Simulation::multirate_step(const StepExtras& extras, std::int64_t& evalua
     kernel::pack_points(p_, kernel_points_.xyzv);
   }
   level_evaluations_ = 0;
+  auto& counts = level_counts_;
+  counts.evaluated.resize(std::max(counts.evaluated.size(), levels_->plans.size()), 0);
+  counts.one_step += bonds_.own_bonds << (levels_->count() - 1);
   level_substep(0, extras.side_task);
   kernel_points_.fresh = false;
   sum_level_forces();
@@ -139,6 +142,8 @@ void Simulation::level_forces(int l, bool fracture, const SideTask* side) {
                               {plan.rows, plan.start.data(), plan.count.data(), plan.force},
                               kernel_points_.xyzv, side);
     level_evaluations_ += plan.own_bonds;
+    if (static_cast<std::size_t>(l) < level_counts_.evaluated.size())
+      level_counts_.evaluated[static_cast<std::size_t>(l)] += plan.own_bonds;
   }
   if (l != 0) return;
   auto t = timers_.scope(Phase::Loads);

@@ -384,3 +384,34 @@ INSTANTIATE_TEST_SUITE_P(Shipped, CliCase, ::testing::ValuesIn(case_files()), []
 });
 
 }  // namespace
+
+namespace {
+// time.multirate on a plate with a patch of half spacing: frames carry each particle's time level,
+// summary.json counts the particles per level and the bonds evaluated per level, and one global
+// step would have evaluated every bond twice per step.
+TEST_F(CliTest, MultirateRunReportsItsLevels) {
+  const auto dir = run_plate(
+      "result", {},
+      {"body=[{shape: box, min: [0, 0], max: [0.01, 0.005], spacing: 0.0005, material: glass}, "
+       "{shape: box, min: [0.004, 0.001], max: [0.006, 0.004], spacing: 0.00025, material: glass}]",
+       "time.multirate=true", "effects.fracture=false"});
+  const auto summary = read_json(dir / "summary.json");
+  const auto& levels = summary.at("time_levels");
+  const auto particles = levels.at("particles").get<std::vector<std::int64_t>>();
+  ASSERT_EQ(particles.size(), 2u);
+  EXPECT_EQ(particles[0] + particles[1], summary.at("particles_end").get<std::int64_t>());
+  const auto steps = summary.at("steps").get<std::int64_t>();
+  const auto bonds = summary.at("bonds").get<std::int64_t>();
+  EXPECT_EQ(levels.at("one_step_bond_evaluations").get<std::int64_t>(), 2 * steps * bonds);
+  const auto evaluated = levels.at("bond_evaluations").get<std::vector<std::int64_t>>();
+  ASSERT_EQ(evaluated.size(), 2u);
+  EXPECT_EQ(evaluated[1] % (2 * steps), 0) << "each level-1 bond twice per step";
+  EXPECT_GT(levels.at("saving").get<double>(), 1.0);
+  const auto pvd = dhpd::io::read_pvd((dir / "plate.pvd").string());
+  const auto frame = dhpd::io::read_frame((dir / pvd.back().second).string());
+  ASSERT_EQ(frame.fields.count("time_level"), 1u);
+  std::int64_t fine = 0;
+  for (const double l : frame.fields.at("time_level").second) fine += l == 1.0 ? 1 : 0;
+  EXPECT_EQ(fine, particles[1]);
+}
+}  // namespace

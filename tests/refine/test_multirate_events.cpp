@@ -49,7 +49,9 @@ TEST(MultiRateEvents, ChildrenTakeTheFineLevelAndRestartsAreExact) {
   ASSERT_NE(whole.sim.time_levels(), nullptr) << "the children step at their own level";
   EXPECT_EQ(whole.sim.time_levels()->count(), 2);
   for (std::size_t i = 0; i < whole.sim.particles().size(); ++i)
-    if (whole.sim.particles().level[i] > 0) ASSERT_GE(whole.sim.time_levels()->level[i], 1);
+    if (whole.sim.particles().level[i] > 0) {
+      ASSERT_GE(whole.sim.time_levels()->level[i], 1);
+    }
   whole.advance(140);  // by step 135 every particle is split: one level again
   EXPECT_EQ(whole.sim.time_levels(), nullptr);
   first.advance(60);

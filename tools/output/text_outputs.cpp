@@ -206,6 +206,16 @@ void write_summary(const std::string& path, const Summary& s) {
                          {"broken_bonds", m.broken_bonds},
                          {"damaged_particles", m.damaged_particles}};
   j["materials"] = materials;
+  if (const auto& t = s.time_levels) {
+    std::int64_t evaluated = 0;
+    for (const auto e : t->evaluated) evaluated += e;
+    j["time_levels"] = {
+        {"particles", t->particles},
+        {"bond_evaluations", t->evaluated},
+        {"one_step_bond_evaluations", t->one_step},
+        {"saving",
+         evaluated > 0 ? static_cast<double>(t->one_step) / static_cast<double>(evaluated) : 1.0}};
+  }
   if (s.cracks) {
     j["rayleigh_speed"] = s.cracks->rayleigh_speed;
     nlohmann::ordered_json cracks = nlohmann::ordered_json::array();

@@ -110,6 +110,13 @@ struct Summary {
   std::vector<PhaseSeconds> phases;
   std::vector<MaterialCount> materials;
   std::optional<CrackReport> cracks;  ///< with `measure` only
+  /// With time.multirate: particles per level at the end, directed bonds evaluated per level and
+  /// by one global step at the finest level instead (this process's steps).
+  struct TimeLevels {
+    std::vector<std::int64_t> particles, evaluated;
+    std::int64_t one_step = 0;
+  };
+  std::optional<TimeLevels> time_levels;
 };
 
 /// Writes summary.json (atomically: temporary file, then rename).
