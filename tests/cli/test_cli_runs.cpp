@@ -1,4 +1,6 @@
 // End-to-end: good runs write every output; overrides, effects, threads, instability, every case.
+#include <fmt/format.h>
+
 #include "tests/support/cli.hpp"
 
 namespace {
@@ -413,5 +415,14 @@ TEST_F(CliTest, MultirateRunReportsItsLevels) {
   std::int64_t fine = 0;
   for (const double l : frame.fields.at("time_level").second) fine += l == 1.0 ? 1 : 0;
   EXPECT_EQ(fine, particles[1]);
+  // history.csv: particles per level after the momentum, one column per allowed level.
+  const auto history = read_text(dir / "history.csv");
+  const auto header = history.substr(0, history.find('\n'));
+  EXPECT_NE(header.find("momentum_z,particles_level_0,particles_level_1,"), std::string::npos);
+  EXPECT_NE(header.find(",particles_level_7"), std::string::npos) << "time.max_levels columns";
+  const auto last = history.substr(history.rfind('\n', history.size() - 2) + 1);
+  EXPECT_NE(last.find(fmt::format(",{},{},0,0,0,0,0,0\n", particles[0], particles[1])),
+            std::string::npos)
+      << last;
 }
 }  // namespace

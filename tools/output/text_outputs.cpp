@@ -123,17 +123,28 @@ nlohmann::ordered_json crack_json(const measure::CrackSummary& c) {
 
 }  // namespace
 
-HistoryWriter::HistoryWriter(const std::string& path, bool append)
-    : out_(open_csv(path, kHistoryHeader, "history", append)) {}
+namespace {
+std::string history_header(int level_columns) {
+  std::string header = kHistoryHeader;
+  for (int l = 0; l < level_columns; ++l) header += fmt::format(",particles_level_{}", l);
+  return header;
+}
+}  // namespace
+
+HistoryWriter::HistoryWriter(const std::string& path, bool append, int level_columns)
+    : out_(open_csv(path, history_header(level_columns).c_str(), "history", append)),
+      level_columns_(level_columns) {}
 
 void HistoryWriter::write(const HistoryRow& row) {
-  write_row(
-      out_,
-      fmt::format("{},{:.17g},{:.17g},{},{},{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g}\n",
-                  row.step, row.time, row.dt, row.particles, row.bonds, row.broken_bonds,
-                  row.kinetic_energy, row.strain_energy, row.external_work, row.momentum[0],
-                  row.momentum[1], row.momentum[2]),
-      "history");
+  auto text = fmt::format(
+      "{},{:.17g},{:.17g},{},{},{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g}", row.step,
+      row.time, row.dt, row.particles, row.bonds, row.broken_bonds, row.kinetic_energy,
+      row.strain_energy, row.external_work, row.momentum[0], row.momentum[1], row.momentum[2]);
+  for (int l = 0; l < level_columns_; ++l) {
+    const auto k = static_cast<std::size_t>(l);
+    text += fmt::format(",{}", k < row.particles_per_level.size() ? row.particles_per_level[k] : 0);
+  }
+  write_row(out_, text + "\n", "history");
 }
 
 RefinementWriter::RefinementWriter(const std::string& path, bool append)

@@ -20,18 +20,23 @@ struct HistoryRow {
   std::int64_t particles = 0, bonds = 0, broken_bonds = 0;
   double kinetic_energy = 0, strain_energy = 0, external_work = 0;
   double momentum[3] = {0, 0, 0};
+  /// Particles per time level (docs/theory.md §19), written when the writer has level columns.
+  std::vector<std::int64_t> particles_per_level;
 };
 
 /// history.csv with a fixed header; every row is flushed so a crash keeps what was written.
 class HistoryWriter {
  public:
   /// `append`: continue a file (a restart has cut it back to the checkpoint), no new header.
-  explicit HistoryWriter(const std::string& path, bool append = false);
+  /// `level_columns` > 0 (time.multirate: time.max_levels) adds particles_level_0, ... after the
+  /// momentum.
+  explicit HistoryWriter(const std::string& path, bool append = false, int level_columns = 0);
   void write(const HistoryRow& row);
   std::uint64_t bytes() { return bytes_written(out_); }
 
  private:
   std::ofstream out_;
+  int level_columns_ = 0;
 };
 
 /// One row of refinement.csv: what an event did and when.

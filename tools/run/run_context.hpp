@@ -47,6 +47,13 @@ inline io::HistoryRow history_row(const Simulation& sim, const Energies& e) {
   r.strain_energy = e.strain;
   r.external_work = e.external_work;
   for (int a = 0; a < 3; ++a) r.momentum[a] = e.momentum[a];
+  if (sim.setup().multirate.value_or(false)) {
+    r.particles_per_level.assign(1, r.particles);  // one level: every particle at 0
+    if (const auto* t = sim.time_levels()) {
+      r.particles_per_level.assign(static_cast<std::size_t>(t->count()), 0);
+      for (const auto l : t->level) ++r.particles_per_level[static_cast<std::size_t>(l)];
+    }
+  }
   return r;
 }
 

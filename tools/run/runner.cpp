@@ -304,7 +304,9 @@ RunContext open_outputs(const scene::Scene& s, Simulation& sim, const fs::path& 
   RunContext ctx{s, sim,
                  io::BackgroundFrames(io::FrameSeries(dir.string(), s.name, materials, compression),
                                       frame_mode),
-                 io::HistoryWriter((dir / "history.csv").string(), resumed), output_field_names(s)};
+                 io::HistoryWriter((dir / "history.csv").string(), resumed,
+                                   s.time.multirate.value_or(false) ? s.time.max_levels : 0),
+                 output_field_names(s)};
   if (resumed) ctx.frames.resume(state.frames);
   ctx.state = &state;
   ctx.scene_text = checkpoint_scene_text(s);
