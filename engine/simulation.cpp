@@ -265,10 +265,7 @@ constexpr std::int64_t kSumBlock = 1024;
 
 ParticleSums particle_sums(const ParticleStore& p, const ResolvedLoads& loads, double dt) {
   const auto n = static_cast<std::int64_t>(p.size());
-  std::vector<std::uint8_t> fixed(p.size(), 0);  // bit a: axis a has a prescribed velocity
-  for (std::size_t k = 0; k < loads.prescribed.size(); ++k)
-    for (int a = 0; a < 3; ++a)
-      if (loads.mask[k][a]) fixed[static_cast<std::size_t>(loads.prescribed[k])] |= 1u << a;
+  const auto fixed = prescribed_axes(loads, p.size());
   const std::int64_t blocks = (n + kSumBlock - 1) / kSumBlock;
   std::vector<ParticleSums> part(static_cast<std::size_t>(blocks));
   const int dim = p.dim();

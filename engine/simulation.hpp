@@ -136,6 +136,8 @@ class Simulation {
   /// The time levels of multi-rate stepping (docs/theory.md §19), or null while one global step
   /// rules (multi-rate off, or every particle at level 0). dt() is then dt₀.
   const TimeLevels* time_levels() const { return levels_ ? &*levels_ : nullptr; }
+  /// Particles at each time level (every particle at level 0 under one global step).
+  std::vector<std::int64_t> particles_per_level() const;
   /// After an edit of the discretisation (a refinement event), at a dt₀ boundary: the time levels
   /// chosen again and the particles renumbered by level (a compaction) where multi-rate stepping
   /// is on; nothing otherwise.
@@ -301,15 +303,14 @@ class Simulation {
   double lanczos_dt_ = 0.0, lanczos_bound_ = 0.0;
   double external_work_ = 0.0, last_power_ = 0.0;
   EnergyBudget budget_;
-  bool conservative_ = true;             ///< the model conserves energy (not classical-variable)
-  double blowup_factor_ = 2.0;           ///< plain energy above this × the balance is a blow-up
-  std::vector<double> kinetic_blocks_;   ///< guard scratch
-  kernel::PackedPoints kernel_points_;   ///< force kernel scratch (kernel::pack_points)
-  std::optional<TimeLevels> levels_;     ///< multi-rate plans (derived from the state)
-  std::int64_t level_evaluations_ = 0;   ///< directed bonds the current dt₀ step evaluated
-  LevelCounts level_counts_;             ///< not archived: this process's steps
-  std::int64_t levels_generation_ = -1;  ///< generation_ the plans were made at
-  std::vector<double> load_start_;       ///< multirate_step scratch: loaded displacements
+  bool conservative_ = true;            ///< the model conserves energy (not classical-variable)
+  double blowup_factor_ = 2.0;          ///< plain energy above this × the balance is a blow-up
+  std::vector<double> kinetic_blocks_;  ///< guard scratch
+  kernel::PackedPoints kernel_points_;  ///< force kernel scratch (kernel::pack_points)
+  std::optional<TimeLevels> levels_;    ///< multi-rate plans (derived from the state)
+  std::int64_t level_evaluations_ = 0;  ///< directed bonds the current dt₀ step evaluated
+  LevelCounts level_counts_;            ///< not archived: this process's steps
+  std::vector<double> load_start_;      ///< multirate_step scratch: loaded displacements
   /// The strain energy a step's force pass computed, valid while steps_, generation_ and
   /// layout_version_ are still those it was computed at (not part of the state).
   struct FusedEnergy {

@@ -31,7 +31,6 @@ void Simulation::plan_levels() {
   auto choice = choose_levels();
   if (choice.count == 1 || !std::is_sorted(choice.level.begin(), choice.level.end())) return;
   levels_ = plan_time_levels(bonds_, p_, std::move(choice));
-  levels_generation_ = generation_;
   dt_ = levels_->dt0;
   kernel::pack_points(p_, kernel_points_.xyzv);
   kernel_points_.fresh = false;
@@ -40,8 +39,17 @@ void Simulation::plan_levels() {
   last_power_ = boundary_power();
 }
 
+std::vector<std::int64_t> Simulation::particles_per_level() const {
+  if (!levels_) return {static_cast<std::int64_t>(p_.size())};
+  std::vector<std::int64_t> out(static_cast<std::size_t>(levels_->count()), 0);
+  for (const auto l : levels_->level) ++out[static_cast<std::size_t>(l)];
+  return out;
+}
+
 void Simulation::relevel() {
-  if (!multirate_enabled() || (levels_ && levels_generation_ == generation_)) return;
+  // Plans that exist are current: commit_edit, the one place the discretisation changes, drops
+  // them.
+  if (!multirate_enabled() || levels_) return;
   const auto choice = choose_levels();
   if (choice.count == 1) return;  // commit_edit left one global step
   // The shadow energy moves with the new steps and forces: the ledger takes it as a mapping.
@@ -171,10 +179,7 @@ void Simulation::sum_level_forces() {
 }
 
 double Simulation::multirate_correction() const {
-  std::vector<std::uint8_t> fixed(p_.size(), 0);  // bit a: axis a has a prescribed velocity
-  for (std::size_t k = 0; k < loads_.prescribed.size(); ++k)
-    for (int a = 0; a < 3; ++a)
-      if (loads_.mask[k][a]) fixed[static_cast<std::size_t>(loads_.prescribed[k])] |= 1u << a;
+  const auto fixed = prescribed_axes(loads_, p_.size());
   double total = 0.0;
   for (int l = 0; l < levels_->count(); ++l) {
     const auto& plan = levels_->plans[static_cast<std::size_t>(l)];

@@ -133,4 +133,12 @@ void renumber_loads(ResolvedLoads& r, const std::vector<std::int32_t>& new_index
   for (auto& i : r.prescribed) i = new_index[static_cast<std::size_t>(i)];
 }
 
+std::vector<std::uint8_t> prescribed_axes(const ResolvedLoads& loads, std::size_t n) {
+  std::vector<std::uint8_t> fixed(n, 0);
+  for (std::size_t k = 0; k < loads.prescribed.size(); ++k)
+    for (int a = 0; a < 3; ++a)
+      if (loads.mask[k][a]) fixed[static_cast<std::size_t>(loads.prescribed[k])] |= 1u << a;
+  return fixed;
+}
+
 }  // namespace dhpd

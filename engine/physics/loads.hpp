@@ -63,4 +63,7 @@ void inherit_loads(ResolvedLoads& loads, const std::vector<std::int32_t>& succes
 /// Renumbers every entry: particle i becomes new_index[i].
 void renumber_loads(ResolvedLoads& loads, const std::vector<std::int32_t>& new_index);
 
+/// Per particle of `n`: bit a set when axis a has a prescribed velocity.
+std::vector<std::uint8_t> prescribed_axes(const ResolvedLoads& loads, std::size_t n);
+
 }  // namespace dhpd

@@ -16,8 +16,7 @@ void RunContext::finish_with_checkpoint() {
     try {            // the run is complete: a checkpoint that cannot be written does not undo it
       checkpoint();
     } catch (const IoError& e) {
-      unsaved = std::string("the final checkpoint was not written: ") + e.what();
-      log->line("dhpd: warning: " + unsaved);
+      warn_unsaved(e);
     }
     return;
   }
@@ -48,9 +47,13 @@ void RunContext::finish_with_checkpoint() {
     if (checkpoint_error) std::rethrow_exception(checkpoint_error);
     log_checkpoint(staged->commit(), begin);
   } catch (const IoError& e) {
-    unsaved = std::string("the final checkpoint was not written: ") + e.what();
-    log->line("dhpd: warning: " + unsaved);
+    warn_unsaved(e);
   }
+}
+
+void RunContext::warn_unsaved(const IoError& e) {
+  unsaved = std::string("the final checkpoint was not written: ") + e.what();
+  log->line("dhpd: warning: " + unsaved);
 }
 
 }  // namespace dhpd::run

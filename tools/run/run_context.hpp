@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/base/errors.hpp"
 #include "engine/checkpoint/checkpoint.hpp"
 #include "engine/checkpoint/guard_copy.hpp"
 #include "engine/simulation.hpp"
@@ -47,13 +48,7 @@ inline io::HistoryRow history_row(const Simulation& sim, const Energies& e) {
   r.strain_energy = e.strain;
   r.external_work = e.external_work;
   for (int a = 0; a < 3; ++a) r.momentum[a] = e.momentum[a];
-  if (sim.setup().multirate.value_or(false)) {
-    r.particles_per_level.assign(1, r.particles);  // one level: every particle at 0
-    if (const auto* t = sim.time_levels()) {
-      r.particles_per_level.assign(static_cast<std::size_t>(t->count()), 0);
-      for (const auto l : t->level) ++r.particles_per_level[static_cast<std::size_t>(l)];
-    }
-  }
+  if (sim.setup().multirate.value_or(false)) r.particles_per_level = sim.particles_per_level();
   return r;
 }
 
@@ -205,6 +200,8 @@ struct RunContext {
   /// another writes and syncs the checkpoint under its temporary name; the checkpoint takes its
   /// name only once the frame is on disk, so it never lists a frame that is not.
   void finish_with_checkpoint();
+  /// The run is complete without its final checkpoint: `unsaved` and a warning say why.
+  void warn_unsaved(const IoError& e);
   void log_checkpoint(std::size_t bytes, std::chrono::steady_clock::time_point begin) {
     last_checkpoint_wall = elapsed();
     log->line(fmt::format(

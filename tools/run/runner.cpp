@@ -82,12 +82,7 @@ io::Summary make_summary(const scene::Scene& s, const Simulation& sim, double wa
   sum.materials = run::material_counts(s, sim);
   if (s.time.multirate.value_or(false)) {
     io::Summary::TimeLevels t;
-    const auto* levels = sim.time_levels();
-    t.particles.assign(levels ? static_cast<std::size_t>(levels->count()) : 1, 0);
-    if (levels)
-      for (const auto l : levels->level) ++t.particles[static_cast<std::size_t>(l)];
-    else
-      t.particles[0] = static_cast<std::int64_t>(sim.particles().size());
+    t.particles = sim.particles_per_level();
     t.evaluated = sim.level_counts().evaluated;
     t.one_step = sim.level_counts().one_step;
     sum.time_levels = std::move(t);
