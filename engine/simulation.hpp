@@ -53,8 +53,9 @@ struct SimulationSetup {
   std::optional<double> fixed_dt;
   StableStepEstimate stable_step = StableStepEstimate::Lanczos;
   /// Multi-rate stepping (docs/theory.md §19): particles step at dt₀/2^ℓ by their time level.
-  /// true: on wherever the particles need more than one level; false or nullopt: one global step
-  /// (the default until the paper cases are validated with it, docs/theory.md §19.5).
+  /// true: on wherever the particles need more than one level; false: one global step; nullopt
+  /// (the default): levels where they evaluate fewer bonds than one global step by more than
+  /// kLevelOverhead, else one global step (docs/theory.md §19.5).
   std::optional<bool> multirate;
   /// The most time levels a run may use (a particle that needs more is refused).
   int max_time_levels = 8;
@@ -133,6 +134,8 @@ class Simulation {
     for (std::int64_t k = 0; k < n; ++k) step();
   }
 
+  /// Multi-rate stepping is allowed: time.multirate is not false and the model is conservative.
+  bool multirate_enabled() const;
   /// The time levels of multi-rate stepping (docs/theory.md §19), or null while one global step
   /// rules (multi-rate off, or every particle at level 0). dt() is then dt₀.
   const TimeLevels* time_levels() const { return levels_ ? &*levels_ : nullptr; }
@@ -255,7 +258,6 @@ class Simulation {
   double multirate_step(const StepExtras& extras, std::int64_t& evaluated);
   /// The end of a step: work ledger, the guard's kinetic check, clocks.
   void finish_step(double body_work);
-  bool multirate_enabled() const;
   /// Chooses the time levels of the current slots: the plans when more than one level is needed
   /// (the slots must be sorted by level), none otherwise.
   void plan_levels();

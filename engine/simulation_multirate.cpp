@@ -16,13 +16,14 @@ namespace dhpd {
 
 bool Simulation::multirate_enabled() const {
   // The classical variable-horizon model is not conservative (ghost forces): not split.
-  return setup_.multirate.value_or(false) && setup_.model != ForceModel::ClassicalVariable;
+  // Left to its default, levels are used where they pay (time_levels.hpp, automatic).
+  return setup_.multirate.value_or(true) && setup_.model != ForceModel::ClassicalVariable;
 }
 
 LevelChoice Simulation::choose_levels() const {
-  return choose_time_levels(
-      bonds_, p_,
-      {particle_dt_, critical_dt_, setup_.safety, setup_.fixed_dt, setup_.max_time_levels});
+  return choose_time_levels(bonds_, p_,
+                            {particle_dt_, critical_dt_, setup_.safety, setup_.fixed_dt,
+                             setup_.max_time_levels, !setup_.multirate.has_value()});
 }
 
 void Simulation::plan_levels() {

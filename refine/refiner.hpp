@@ -1,6 +1,7 @@
 // The refiner: triggers + buffer + grading + level limit pick the parents of an event, which the
 // Simulation then applies (docs/theory.md §13.2; IJNME 2016 §5.3).
 #pragma once
+#include <algorithm>
 #include <cstdint>
 #include <functional>
 #include <vector>
@@ -64,8 +65,14 @@ class Refiner {
   void prepare(const Simulation& sim) { search_.grid(sim); }
   /// Splits the zones' particles, level by level up to max_level; one event per level.
   std::vector<RefinementEvent> refine_zones(Simulation& sim);
-  /// Whether the refiner checks after `step` (steps counted from 1).
-  bool due(std::int64_t step) const { return s_.trigger.any() && step % s_.check_every == 0; }
+  /// Whether the refiner checks after `step` (steps counted from 1). With `levels` time levels
+  /// the period counts steps of the finest level, check_every / 2^(levels − 1) coarse steps (at
+  /// least 1), so the checks come as often in time as with one step at the finest level's
+  /// (docs/theory.md §19.3).
+  bool due(std::int64_t step, int levels = 1) const {
+    const auto period = std::max<std::int64_t>(1, s_.check_every >> std::clamp(levels - 1, 0, 62));
+    return s_.trigger.any() && step % period == 0;
+  }
   /// Triggers, buffer and grading; applies the event when there are parents (parents == 0 in
   /// the returned event otherwise).
   RefinementEvent check(Simulation& sim);

@@ -31,6 +31,40 @@ int step_level(double dt0, double allowed) {
   return l;
 }
 
+/// Levels before the buffer: ℓ_i = max(spacing level, smallest ℓ with dt0/2^ℓ ≤ allowed_i).
+std::vector<int> base_levels(const std::vector<int>& by_spacing, const std::vector<double>& allowed,
+                             double dt0) {
+  std::vector<int> out(allowed.size());
+  for (std::size_t i = 0; i < out.size(); ++i)
+    out[i] = std::max(by_spacing[i], step_level(dt0, allowed[i]));
+  return out;
+}
+
+/// The buffer: each particle takes the finest base level among the particles it shares a bond
+/// with (a one-horizon buffer around each finer level).
+std::vector<int> buffered(const BondRows& rows, const std::vector<int>& base) {
+  std::vector<int> out(base.size());
+  for (std::size_t i = 0; i < base.size(); ++i) {
+    int l = base[i];
+    for (auto k = rows.begin(i); k < rows.end(i); ++k)
+      l = std::max(l, base[static_cast<std::size_t>(rows.other[k])]);
+    out[i] = l;
+  }
+  return out;
+}
+
+/// Whether levels evaluate fewer row entries per unit of time than one global step of
+/// `one_step` by more than kLevelOverhead (docs/theory.md §19.5).
+bool levels_pay(const BondRows& rows, const std::vector<int>& level, double dt0, double one_step) {
+  double with_levels = 0.0, without = 0.0;
+  for (std::size_t i = 0; i < level.size(); ++i) {
+    const auto entries = static_cast<double>(rows.end(i) - rows.begin(i));
+    with_levels += entries * std::ldexp(1.0, std::min(level[i], 60));
+    without += entries;
+  }
+  return with_levels / dt0 * kLevelOverhead < without / one_step;
+}
+
 }  // namespace
 
 LevelChoice choose_time_levels(const BondRows& rows, const ParticleStore& p,
@@ -42,7 +76,7 @@ LevelChoice choose_time_levels(const BondRows& rows, const ParticleStore& p,
   // the smallest bound (docs/theory.md §19.1).
   const double tight = std::isfinite(smallest) ? std::max(1.0, in.critical_dt / smallest) : 1.0;
   const auto by_spacing = spacing_levels(p);
-  double coarse = kInfinity;  // the coarsest particles' stable step
+  double coarse = kInfinity;  // the coarsest spacing's stable step: a fixed dt0 may not exceed it
   for (std::size_t i = 0; i < n; ++i)
     if (by_spacing[i] == 0) coarse = std::min(coarse, tight * in.particle_dt[i]);
   LevelChoice out;
@@ -50,20 +84,26 @@ LevelChoice choose_time_levels(const BondRows& rows, const ParticleStore& p,
   out.coarse_dt = coarse;
   out.dt0 = in.fixed_dt.value_or(in.safety * coarse);
   const double margin = in.fixed_dt ? 1.0 : in.safety;
-  std::vector<int> base(n);
-  for (std::size_t i = 0; i < n; ++i)
-    base[i] = std::max(by_spacing[i], step_level(out.dt0, margin * tight * in.particle_dt[i]));
-  // The buffer: a particle takes the finest level among the particles it shares a bond with.
+  std::vector<double> allowed(n);
+  for (std::size_t i = 0; i < n; ++i) allowed[i] = margin * tight * in.particle_dt[i];
+  const auto level = buffered(rows, base_levels(by_spacing, allowed, out.dt0));
   out.level.resize(n);
   int finest = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    int l = base[i];
-    for (auto k = rows.begin(i); k < rows.end(i); ++k)
-      l = std::max(l, base[static_cast<std::size_t>(rows.other[k])]);
-    finest = std::max(finest, l);
-    out.level[i] = static_cast<std::int8_t>(std::min(l, 127));
+    finest = std::max(finest, level[i]);
+    out.level[i] = static_cast<std::int8_t>(std::min(level[i], 127));
   }
   out.count = finest + 1;
+  // Left to its default: one global step when the levels would not pay for their passes, or
+  // would be more than the run may have (docs/theory.md §19.5).
+  const double one_step = in.fixed_dt.value_or(in.safety * in.critical_dt);
+  if (in.automatic && out.count > 1 &&
+      (out.count > in.max_levels || !levels_pay(rows, level, out.dt0, one_step))) {
+    out.level.assign(n, 0);
+    out.dt0 = one_step;
+    out.count = 1;
+    return out;
+  }
   if (out.count > in.max_levels)
     throw TimeLevelError(fmt::format(
         "the particles need {} time levels (steps dt0 / 2^0 ... dt0 / 2^{}, dt0 = {:.6g} s), more "

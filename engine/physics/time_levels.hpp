@@ -18,7 +18,16 @@ struct LevelInputs {
   double safety;                           ///< time.safety
   std::optional<double> fixed_dt;          ///< time.dt, when the scene fixes it
   int max_levels;                          ///< levels allowed (time.max_levels)
+  /// time.multirate left to its default: one global step when the levels would not pay, or when
+  /// more than max_levels would be needed (instead of TimeLevelError).
+  bool automatic = false;
 };
+
+/// The cost of a row-entry evaluation in a level's segment pass relative to one in the global
+/// step's pass (measured 1.06 on kalthoff_winkler_2d_fine_coarse.yaml, with a margin;
+/// docs/theory.md §19.5): by default levels are used only when they evaluate fewer entries by more
+/// than this.
+inline constexpr double kLevelOverhead = 1.15;
 
 /// The level of each particle and the coarse step dt₀.
 struct LevelChoice {
@@ -31,7 +40,8 @@ struct LevelChoice {
 /// ℓ_i = max(spacing level, stable-step level), then raised to the largest level of any particle
 /// it shares a bond with (a one-horizon buffer around each finer level). dt₀ is the fixed dt when
 /// given (the caller refuses one above coarse_dt), else safety × coarse_dt. Throws TimeLevelError
-/// when the particles need more than `max_levels` levels.
+/// when the particles need more than `max_levels` levels. With `automatic`, one level (dt₀ the
+/// global step) instead when the levels do not pay (docs/theory.md §19.5) or are too many.
 LevelChoice choose_time_levels(const BondRows& rows, const ParticleStore& p, const LevelInputs& in);
 
 /// The order that sorts particles by level, Morton order `morton` kept within a level

@@ -425,4 +425,21 @@ TEST_F(CliTest, MultirateRunReportsItsLevels) {
             std::string::npos)
       << last;
 }
+TEST_F(CliTest, LevelsAreShownByDefaultOnlyWhereTheSceneCanHaveThem) {
+  // A plate with a fine patch and time.multirate unset: levels pay there, and the outputs show
+  // them; the same plate at one spacing shows none (history.csv keeps its columns).
+  const std::string patch =
+      "body=[{shape: box, min: [0, 0], max: [0.02, 0.01], spacing: 0.0005, material: glass}, "
+      "{shape: box, min: [0.009, 0.004], max: [0.011, 0.006], spacing: 0.00025, material: glass}]";
+  const auto dir = run_plate("patch", {}, {patch, "effects.fracture=false"});
+  const auto levels = read_json(dir / "summary.json").at("time_levels").at("particles");
+  EXPECT_EQ(levels.size(), 2u);
+  const auto history = read_text(dir / "history.csv");
+  EXPECT_NE(history.find("particles_level_0"), std::string::npos);
+  const auto plain = run_plate("plain", {}, {"effects.fracture=false"});
+  EXPECT_FALSE(read_json(plain / "summary.json").contains("time_levels"));
+  const auto plain_history = read_text(plain / "history.csv");
+  EXPECT_EQ(plain_history.substr(0, plain_history.find('\n')).find("particles_level"),
+            std::string::npos);
+}
 }  // namespace

@@ -6,8 +6,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <optional>
 #include <random>
 
+#include "engine/base/errors.hpp"
 #include "engine/physics/bond_loops.hpp"
 #include "engine/simulation.hpp"
 #include "geometry/lattice.hpp"
@@ -18,14 +20,14 @@ namespace {
 using geometry::Box;
 
 /// A body of `cells` coarse cells a side (spacing h) with a patch of half spacing in its middle
-/// third, linear β. `g0` 0: elastic.
-SimulationSetup patch_body(int dim, int cells, double g0) {
+/// (`margin` coarse cells from each side; default: its middle third), linear β. `g0` 0: elastic.
+SimulationSetup patch_body(int dim, int cells, double g0, int margin = -1) {
   SimulationSetup s;
   s.section = {dim, PlaneMode::Stress, dim == 2 ? 1e-3 : 1.0, dim == 1 ? 1e-6 : 1.0};
   s.materials = {{72e9, 2440, g0}};
   s.partial_volume = PartialVolume::Linear;
   const double h = 1e-3, size = cells * h;
-  const double lo = std::floor(cells / 3.0) * h, hi = size - lo;
+  const double lo = (margin >= 0 ? margin : std::floor(cells / 3.0)) * h, hi = size - lo;
   Vec3 body_max{size, dim > 1 ? size : 0.0, dim > 2 ? size : 0.0};
   Vec3 patch_min{lo, dim > 1 ? lo : 0.0, dim > 2 ? lo : 0.0};
   Vec3 patch_max{hi, dim > 1 ? hi : 0.0, dim > 2 ? hi : 0.0};
@@ -256,6 +258,52 @@ TEST(MultiRate, ErrorFallsWithTheSquareOfTheCoarseStep) {
               e1 / e2, e2 / e4);
   EXPECT_NEAR(e1 / e2, 4.0, 0.8);
   EXPECT_NEAR(e2 / e4, 4.0, 0.8);
+}
+
+/// Positions and velocities after `steps` steps of `setup` with time.multirate `choice`.
+struct Outcome {
+  bool levels = false;
+  std::vector<double> state;
+};
+Outcome run_with(SimulationSetup setup, std::optional<bool> choice, int steps) {
+  setup.multirate = choice;
+  Simulation sim(std::move(setup));
+  Outcome out{sim.time_levels() != nullptr, {}};
+  sim.run_steps(steps);
+  for (int a = 0; a < 2; ++a) {
+    const auto& p = sim.particles();
+    out.state.insert(out.state.end(), p.position[a].begin(), p.position[a].end());
+    out.state.insert(out.state.end(), p.velocity[a].begin(), p.velocity[a].end());
+  }
+  return out;
+}
+
+TEST(MultiRateByDefault, TakesLevelsWhereTheyPayAndOneGlobalStepWhereNot) {
+  // A small fine patch (8 × 8 coarse cells of a 40-cell plate): levels evaluate far fewer bonds,
+  // so the default takes them, as time.multirate: true does, bit for bit.
+  auto small = patch_body(2, 40, 0.0, 16);
+  random_velocities(small, 1.0, 7);
+  const auto by_default = run_with(small, std::nullopt, 20), forced = run_with(small, true, 20);
+  EXPECT_TRUE(by_default.levels);
+  EXPECT_EQ(by_default.state, forced.state);
+  // A patch over all but one coarse cell at each side: the coarse rim is inside the buffer, so
+  // levels would evaluate as many bonds as one global step at the fine step, or more: the
+  // default keeps velocity Verlet, bit for bit with time.multirate: false (true takes levels).
+  auto wide = patch_body(2, 16, 0.0, 1);
+  random_velocities(wide, 1.0, 8);
+  const auto wide_default = run_with(wide, std::nullopt, 20), wide_off = run_with(wide, false, 20);
+  EXPECT_FALSE(wide_default.levels);
+  EXPECT_TRUE(run_with(wide, true, 0).levels);
+  EXPECT_EQ(wide_default.state, wide_off.state);
+}
+
+TEST(MultiRateByDefault, TooManyLevelsFallBackToOneStepUnlessLevelsWereAskedFor) {
+  auto s = patch_body(2, 30, 0.0);
+  s.max_time_levels = 1;
+  s.multirate = std::nullopt;
+  EXPECT_EQ(Simulation(s).time_levels(), nullptr);
+  s.multirate = true;
+  EXPECT_THROW(Simulation{s}, TimeLevelError);
 }
 
 }  // namespace

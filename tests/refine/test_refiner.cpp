@@ -65,5 +65,25 @@ TEST(Refinement, TriggersSplitOnlyWithinTheGivenRegions) {
     EXPECT_EQ(outside, restricted ? 0u : refined / 2);
   }
 }
+TEST(Refinement, ChecksComeAsOftenInTimeWithTimeLevels) {
+  // check_every counts steps of the finest level: with two levels (dt0 = 2 × the finest step) a
+  // check every 10 finest steps is one every 5 coarse steps; never less than every step.
+  refine::Settings set;
+  set.trigger.damage = 0.1;
+  set.check_every = 10;
+  const refine::Refiner refiner(set);
+  std::vector<std::int64_t> one, two, deep;
+  for (std::int64_t k = 1; k <= 20; ++k) {
+    if (refiner.due(k)) one.push_back(k);
+    if (refiner.due(k, 2)) two.push_back(k);
+    if (refiner.due(k, 6)) deep.push_back(k);
+  }
+  EXPECT_EQ(one, (std::vector<std::int64_t>{10, 20}));
+  EXPECT_EQ(two, (std::vector<std::int64_t>{5, 10, 15, 20}));
+  EXPECT_EQ(deep.size(), 20u);
+  refine::Settings none;  // no trigger: never due
+  none.trigger = {};
+  EXPECT_FALSE(refine::Refiner(none).due(10, 2));
+}
 }  // namespace
 }  // namespace dhpd

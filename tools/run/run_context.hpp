@@ -28,11 +28,19 @@ namespace dhpd::run {
 
 namespace fs = std::filesystem;
 
-inline std::vector<std::string> output_field_names(const scene::Scene& s) {
+/// Whether the run's outputs show time levels (frames' time_level, history's particles per level,
+/// summary.json's time_levels): when time.multirate is true, or left to its default in a scene that
+/// starts with several levels or refines (docs/theory.md §19.5).
+inline bool reports_time_levels(const scene::Scene& s, const Simulation& sim) {
+  if (s.time.multirate) return *s.time.multirate;
+  return sim.multirate_enabled() && (s.refinement || sim.time_levels() != nullptr);
+}
+
+inline std::vector<std::string> output_field_names(const scene::Scene& s, const Simulation& sim) {
   auto names = scene::default_fields();
   for (const auto& f : s.output.fields) names.push_back(f);
   const bool listed = std::find(names.begin(), names.end(), "time_level") != names.end();
-  if (s.time.multirate.value_or(false) && !listed) names.push_back("time_level");
+  if (reports_time_levels(s, sim) && !listed) names.push_back("time_level");
   return names;
 }
 
@@ -48,7 +56,7 @@ inline io::HistoryRow history_row(const Simulation& sim, const Energies& e) {
   r.strain_energy = e.strain;
   r.external_work = e.external_work;
   for (int a = 0; a < 3; ++a) r.momentum[a] = e.momentum[a];
-  if (sim.setup().multirate.value_or(false)) r.particles_per_level = sim.particles_per_level();
+  r.particles_per_level = sim.particles_per_level();  // written when the history has the columns
   return r;
 }
 

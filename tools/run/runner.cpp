@@ -80,7 +80,7 @@ io::Summary make_summary(const scene::Scene& s, const Simulation& sim, double wa
     sum.phases.push_back({std::string(phase_name(static_cast<Phase>(p))),
                           sim.timers().seconds(static_cast<Phase>(p))});
   sum.materials = run::material_counts(s, sim);
-  if (s.time.multirate.value_or(false)) {
+  if (run::reports_time_levels(s, sim)) {
     io::Summary::TimeLevels t;
     t.particles = sim.particles_per_level();
     t.evaluated = sim.level_counts().evaluated;
@@ -186,7 +186,8 @@ void time_loop(RunContext& ctx, io::Progress& progress) {
       if (ctx.cracks) ctx.cracks->flush();
     }
     // A signal already caught starts no refinement event: the run stops after this step.
-    if (hook && hook->refiner.due(k) && !signals.caught()) {
+    const int levels = sim.time_levels() ? sim.time_levels()->count() : 1;
+    if (hook && hook->refiner.due(k, levels) && !signals.caught()) {
       try {
         const auto ev = hook->refiner.check(sim);
         if (ev.parents > 0) hook->log(sim, ev);
@@ -300,8 +301,8 @@ RunContext open_outputs(const scene::Scene& s, Simulation& sim, const fs::path& 
                  io::BackgroundFrames(io::FrameSeries(dir.string(), s.name, materials, compression),
                                       frame_mode),
                  io::HistoryWriter((dir / "history.csv").string(), resumed,
-                                   s.time.multirate.value_or(false) ? s.time.max_levels : 0),
-                 output_field_names(s)};
+                                   run::reports_time_levels(s, sim) ? s.time.max_levels : 0),
+                 output_field_names(s, sim)};
   if (resumed) ctx.frames.resume(state.frames);
   ctx.state = &state;
   ctx.scene_text = checkpoint_scene_text(s);

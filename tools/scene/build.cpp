@@ -174,7 +174,7 @@ SimulationSetup build_setup(const Scene& s) {
   setup.energy_tolerance = s.time.energy_tolerance;
   setup.multirate = s.time.multirate;
   setup.max_time_levels = s.time.max_levels;
-  if (s.refinement && s.time.multirate.value_or(false) &&
+  if (s.refinement && s.time.multirate.value_or(false) &&  // asked for: refused; default: one step
       s.refinement->settings.max_level + 1 > s.time.max_levels)
     fail({s.time.where.file, s.time.where.line, "time.max_levels"},
          fmt::format("{} time levels, but refinement.max_level {} needs {}", s.time.max_levels,
