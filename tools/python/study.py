@@ -38,6 +38,8 @@ Study file (YAML):
                                      # tip lay early_distance/2 to early_distance m from the
                                      # notch tip) and final (the chord to the last tip), with
                                      # the scene's published angle
+    fronts: {key: time.multirate, values: [false, true]}   # optional: every variant once per
+                                     # value, one Pareto front each (study_fronts.py)
     criteria: {broken_bonds: 0.25, branching: 0.1}   # optional: limits every variant must meet;
                                      # study.md lists the misses and `dhpd study` exits 1
     reference_spread: {label: time step, set: {time.safety: [0.4, 0.6]}}   # optional: the
@@ -83,6 +85,7 @@ import yaml
 
 import launch
 import study_angles
+import study_fronts
 import study_members
 from study_metrics import distance_to_polyline
 from study_report import METRICS, criteria_failures, fmt, write_outputs
@@ -123,7 +126,7 @@ def load_study(path):
             fail(f"{path}: missing key '{key}'")
     unknown = set(study) - {"name", "case", "reference", "variants", "error", "budget", "threads",
                             "frames", "mirror", "angles", "criteria", "perturbed_reference",
-                            "reference_spread"}
+                            "reference_spread", "fronts"}
     if unknown:
         fail(f"{path}: unknown key(s) {sorted(unknown)}")
     if study.get("error", "angle_deg") not in METRICS:
@@ -155,6 +158,8 @@ def load_study(path):
     for v in study["variants"]:
         if isinstance(v, dict) and v.get("expect", "miss") != "miss":
             fail(f"{path}: a variant's expect must be 'miss', not {v['expect']!r}")
+    if "fronts" in study and study_fronts.check(study["fronts"]):
+        fail(f"{path}: {study_fronts.check(study['fronts'])}")
     if "angles" in study and not study_angles.valid(study["angles"]):
         fail(f"{path}: angles must be {{early_distance: NUMBER > 0}} (m), "
              f"not {study['angles']!r}")
@@ -326,6 +331,7 @@ def plan(args):
             runs += [(f"{label} [{member.split('(')[-1].rstrip(')')}]", case,
                       {**quiet, **overrides, **changes}, expect, label)
                      for member, changes in spread_sets]
+    runs = study_fronts.expand(study.get("fronts"), runs)  # once per front's value, if any
     return study, out, (ref_label, ref_case, {**quiet, **ref_set}), runs, members
 
 
@@ -379,10 +385,10 @@ def main():
     state = Study(study, out, args.dhpd)
     state.total = len(runs)
     state.reference(ref_label, ref_case, ref_set, members)
-    for k, (label, case, overrides, expect, group) in enumerate(runs):
+    for k, (label, case, overrides, expect, group, front) in enumerate(runs):
         print(f"dhpd study: [{k + 1}/{len(runs)}] {label}", flush=True)
         row = state.measure(label, case, overrides, f"run-{k:02d}")[0]
-        row["expect"], row["group"] = expect, group
+        row["expect"], row["group"], row["front"] = expect, group, front
         state.rows.append(row)
         state.write()
     if "perturbed_reference" in study:

@@ -4,6 +4,7 @@ import json
 import os
 
 import study_angles
+import study_fronts
 
 METRICS = ["angle_deg", "initiation", "tip_path", "damage", "l2_displacement", "broken_bonds",
            "branching", "path_both_ways", "crack_distance", "spurious_damage", "momentum"]
@@ -55,8 +56,9 @@ def axis_label(metric):
 
 
 def plot_pareto(rows, metric, front, reference, path, budget=None, title=""):
-    """The error against wall time: variants, the Pareto front, the reference's time and the
-    budget of the plotted error as a horizontal line."""
+    """The error against wall time: variants, the Pareto front (one per front of a study with
+    `fronts`: `front` is then {label: indices}), the reference's time and the budget of the
+    plotted error as a horizontal line."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -64,14 +66,21 @@ def plot_pareto(rows, metric, front, reference, path, budget=None, title=""):
     scale = AXIS[metric][2]
     fig, ax = plt.subplots(figsize=(7.5, 4.8))
     shown = [r for r in rows if r[metric] is not None]
-    ax.scatter([r["wall_s"] for r in shown], [r[metric] * scale for r in shown],
-               color="tab:blue", label="variants")
+    fronts = front if isinstance(front, dict) else {None: front}
+    colours = ["tab:red", "tab:purple", "tab:orange", "tab:green", "tab:brown"]
+    for k, name in enumerate(fronts):  # the variants, in their front's colour when there are some
+        group = [r for r in shown if r.get("front") == name]
+        ax.scatter([r["wall_s"] for r in group], [r[metric] * scale for r in group],
+                   color="tab:blue" if name is None else colours[k % len(colours)], alpha=0.6,
+                   label="variants" if name is None else f"variants: {name}")
     for r in shown:
         ax.annotate(r["label"], (r["wall_s"], r[metric] * scale), fontsize=7,
                     xytext=(3, 3), textcoords="offset points")
-    pts = sorted((rows[i]["wall_s"], rows[i][metric] * scale) for i in front)
-    if pts:
-        ax.plot(*zip(*pts), color="tab:red", marker="o", label="Pareto front")
+    for k, (name, members) in enumerate(fronts.items()):
+        pts = sorted((rows[i]["wall_s"], rows[i][metric] * scale) for i in members)
+        if pts:
+            ax.plot(*zip(*pts), color=colours[k % len(colours)], marker="o",
+                    label="Pareto front" + (f": {name}" if name is not None else ""))
     ax.axvline(reference["wall_s"], color="grey", linestyle="--",
                label=f"reference ({reference['label']}, {reference['wall_s']:.3g} s)")
     if budget and metric in budget:
@@ -211,10 +220,12 @@ def write_outputs(study, rows, ref_row, out, perturbed=None, mirror_spread=None,
     cheapest row within the budget."""
     metric = study.get("error", "angle_deg")
     write_csv(os.path.join(out, "study.csv"), [ref_row] + rows + ([perturbed] if perturbed else []))
-    front = pareto_front(rows, metric)
     budget = study.get("budget", {})
-    plot_pareto(rows, metric, front, ref_row, os.path.join(out, "pareto.png"), budget,
-                study.get("name", "study"))
+    by_front = {name: [members[k] for k in pareto_front([rows[i] for i in members], metric)]
+                for name, members in study_fronts.groups(rows).items()}
+    front = [i for members in by_front.values() for i in members]
+    plot_pareto(rows, metric, by_front if len(by_front) > 1 else front, ref_row,
+                os.path.join(out, "pareto.png"), budget, study.get("name", "study"))
     best = cheapest_within(rows, budget)
     sources = [r.get("peak_source", "unknown") for r in [ref_row] + rows]
     peak = ", ".join(f"{s}: {sources.count(s)} run(s)" for s in dict.fromkeys(sources))
@@ -224,6 +235,8 @@ def write_outputs(study, rows, ref_row, out, perturbed=None, mirror_spread=None,
         f"Peak memory: each engine process's own ({peak}).", ""]
     lines += variant_lines(rows, ref_row, front)
     lines += ["", f"Error plotted: `{metric}`, {axis_label(metric)} (pareto.png).", ""]
+    lines += study_fronts.lines(rows, ref_row, by_front,
+                                lambda group: cheapest_within(group, budget))
     if "mirror" in study:
         a, b = study["mirror"]["tips"]
         lines += [f"Reference's own tip-path spread ({a} against mirrored {b}): "

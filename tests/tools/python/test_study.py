@@ -22,6 +22,7 @@ import numpy as np  # noqa: E402
 
 import launch  # noqa: E402
 import study as study_tool  # noqa: E402
+import study_fronts  # noqa: E402
 import study_report  # noqa: E402
 
 BALLAST_MIB = 300
@@ -383,6 +384,47 @@ class PolledPeak(unittest.TestCase):
         self.assertLessEqual(peak[0], engine * 1.01)
         self.assertGreater(peak[0], 0.5 * engine)
         self.assertLess(peak[0], BALLAST_MIB / 2)
+
+
+class Fronts(unittest.TestCase):
+    """`fronts`: every variant once per value of a key, one Pareto front per value."""
+    FRONTS = {"key": "time.multirate", "values": [False, True], "labels": ["one step", "levels"]}
+
+    def test_every_run_runs_once_per_value_with_the_key_set(self):
+        runs = [("a", "x.yaml", {"k": 1}, None, "a"), ("b", "x.yaml", {}, "miss", "b")]
+        out = study_fronts.expand(self.FRONTS, runs)
+        self.assertEqual([r[0] for r in out], ["a · one step", "b · one step", "a · levels",
+                                               "b · levels"])
+        self.assertEqual(out[2][2], {"k": 1, "time.multirate": True})
+        self.assertEqual(out[1][3:], ("miss", "b · one step", "one step"))
+        self.assertEqual(study_fronts.expand(None, runs)[0][5], None)
+
+    def test_malformed_fronts_are_refused(self):
+        self.assertIsNone(study_fronts.check(self.FRONTS))
+        for bad in ({"key": "a", "values": [1]}, {"values": [1, 2]},
+                    {"key": "a", "values": [1, 2], "labels": ["x"]},
+                    {"key": "a", "values": [1, 2], "labels": ["x", "x"]},
+                    {"key": "a", "values": [1, 2], "colour": "red"}):
+            self.assertIsNotNone(study_fronts.check(bad), bad)
+
+    def test_each_value_gets_its_own_front_in_the_picture_and_the_text(self):
+        rows = [row("a · one step", 1.0, tip_path=0.001), row("b · one step", 2.0, tip_path=0.0005),
+                row("a · levels", 0.5, tip_path=0.001), row("b · levels", 1.5, tip_path=0.002)]
+        for r, front in zip(rows, ["one step", "one step", "levels", "levels"]):
+            r["front"] = front
+        out = WORK("fronts")
+        os.makedirs(out)
+        study = {"name": "bar", "error": "tip_path", "budget": {"tip_path": 0.0015}}
+        with support.captured_figures() as figures:
+            study_report.write_outputs(study, rows, row("ref", 10.0), out)
+            lines = {line.get_label(): line for line in figures[0].axes[0].lines}
+        np.testing.assert_allclose(lines["Pareto front: one step"].get_xdata(), [1.0, 2.0])
+        # b · levels is slower and worse than a · levels: only a is on that front.
+        np.testing.assert_allclose(lines["Pareto front: levels"].get_xdata(), [0.5])
+        md = support.read(os.path.join(out, "study.md"))
+        self.assertIn("- **one step**: cheapest within the budget **a · one step**, 1.00 s", md)
+        self.assertIn("- **levels**: cheapest within the budget **a · levels**, 0.50 s (20.0×", md)
+        self.assertIn("on the front: a · levels.", md)
 
 
 if __name__ == "__main__":
