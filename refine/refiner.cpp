@@ -3,14 +3,39 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 
 #include "engine/discretization/neighbor_search.hpp"
 
 namespace dhpd::refine {
 
-void add_buffer(const ParticleStore& p, double buffer, std::vector<std::uint8_t>& marked) {
+namespace {
+/// The particles j ≠ i within `radius` of particle i (reference positions), from the refiner's
+/// grid when it has one, else from a k-d tree built on first use (the same predicate).
+class Neighbours {
+ public:
+  Neighbours(const ParticleStore& p, const SpatialGrid* grid) : p_(p), grid_(grid) {}
+  void within(std::size_t i, double radius, std::vector<std::int32_t>& out) {
+    if (grid_) {
+      out.clear();
+      grid_->within(point_of(p_.reference_position, i), radius, out, static_cast<std::int32_t>(i));
+      return;
+    }
+    if (!tree_) tree_ = std::make_unique<NeighborSearch>(p_.reference_position, p_.dim());
+    tree_->within(i, radius, out);
+  }
+
+ private:
+  const ParticleStore& p_;
+  const SpatialGrid* grid_;
+  std::unique_ptr<NeighborSearch> tree_;
+};
+}  // namespace
+
+void add_buffer(const ParticleStore& p, double buffer, std::vector<std::uint8_t>& marked,
+                const SpatialGrid* grid) {
   if (buffer <= 0.0 || std::find(marked.begin(), marked.end(), 1) == marked.end()) return;
-  const NeighborSearch search(p.reference_position, p.dim());
+  Neighbours search(p, grid);
   const auto seeds = marked;
   std::vector<std::int32_t> near;
   for (std::size_t t = 0; t < p.size(); ++t) {
@@ -32,7 +57,7 @@ void keep_within(const ParticleStore& p, const std::vector<geometry::Shape>& wit
 }
 
 std::vector<std::int32_t> graded_parents(const Simulation& sim, std::vector<std::uint8_t> marked,
-                                         int max_level) {
+                                         int max_level, const SpatialGrid* grid) {
   const auto& p = sim.particles();
   const auto& level = p.level;
   std::vector<std::int32_t> work;
@@ -43,7 +68,7 @@ std::vector<std::int32_t> graded_parents(const Simulation& sim, std::vector<std:
   if (work.empty()) return {};
   // Bonds after the split reach at most max(δ_i, δ_q) + one parent spacing (children offsets and
   // radii): every q that close is a neighbour of i's children.
-  const NeighborSearch search(p.reference_position, p.dim());
+  Neighbours search(p, grid);
   const double max_horizon = *std::max_element(p.horizon.begin(), p.horizon.end());
   std::vector<std::int32_t> near;
   while (!work.empty()) {
@@ -79,7 +104,7 @@ std::vector<RefinementEvent> Refiner::refine_zones(Simulation& sim) {
       for (const auto& z : s_.zones)
         if (z.contains(x, p.dim())) marked[i] = 1;
     }
-    const auto parents = graded_parents(sim, std::move(marked), s_.max_level);
+    const auto parents = graded_parents(sim, std::move(marked), s_.max_level, &search_.grid(sim));
     if (parents.empty()) break;
     if (event_check_) event_check_(sim, parents.size());
     events.push_back(split(sim, parents, s_.mapping, &search_, cancelled_));
@@ -89,9 +114,10 @@ std::vector<RefinementEvent> Refiner::refine_zones(Simulation& sim) {
 
 RefinementEvent Refiner::check(Simulation& sim) {
   auto marked = triggered(sim, s_.trigger);
-  add_buffer(sim.particles(), s_.buffer, marked);
+  const SpatialGrid& grid = search_.grid(sim);  // current: rebuilt only after a change
+  add_buffer(sim.particles(), s_.buffer, marked, &grid);
   keep_within(sim.particles(), s_.within, marked);
-  const auto parents = graded_parents(sim, std::move(marked), s_.max_level);
+  const auto parents = graded_parents(sim, std::move(marked), s_.max_level, &grid);
   if (parents.empty()) {
     RefinementEvent none;
     none.generation = sim.generation();

@@ -41,14 +41,16 @@ void keep_within(const ParticleStore& p, const std::vector<geometry::Shape>& wit
                  std::vector<std::uint8_t>& marked);
 
 /// Adds to `marked` every particle within buffer × δ_t (reference positions) of a marked t.
-void add_buffer(const ParticleStore& p, double buffer, std::vector<std::uint8_t>& marked);
+/// `grid`: a current search over the particles (the refiner's), else a k-d tree is built.
+void add_buffer(const ParticleStore& p, double buffer, std::vector<std::uint8_t>& marked,
+                const SpatialGrid* grid = nullptr);
 
 /// The parents of an event: the marked particles below max_level, plus, repeatedly, every
 /// particle two or more levels coarser than a parent's children within bond reach of them
 /// (max(δ_i, δ_q) + Δx_i). After the event no particle is bonded to one more than one level finer
 /// or coarser, provided that held before. Sorted ascending.
 std::vector<std::int32_t> graded_parents(const Simulation& sim, std::vector<std::uint8_t> marked,
-                                         int max_level);
+                                         int max_level, const SpatialGrid* grid = nullptr);
 
 class Refiner {
  public:

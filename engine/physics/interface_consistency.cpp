@@ -43,11 +43,20 @@ Moment moment_of(const ParticleStore& p, std::size_t i, std::size_t j) {
   return m;
 }
 
-/// The region as a membership test (every particle when it is empty).
-struct Region {
-  const std::vector<std::int32_t>& list;
-  bool all;
-  bool has(std::int32_t i) const { return all || std::binary_search(list.begin(), list.end(), i); }
+/// The region as a membership test (every particle when it is empty), one flag per particle.
+class Region {
+ public:
+  Region(const std::vector<std::int32_t>& list, std::size_t particles) : all_(list.empty()) {
+    if (all_) return;
+    member_.assign(particles, 0);
+    for (const auto i : list) member_[static_cast<std::size_t>(i)] = 1;
+  }
+  bool all() const { return all_; }
+  bool has(std::int32_t i) const { return all_ || member_[static_cast<std::size_t>(i)] != 0; }
+
+ private:
+  bool all_;
+  std::vector<std::uint8_t> member_;
 };
 
 /// Horizon tests on the reference configuration, cached per particle.
@@ -57,8 +66,9 @@ class HorizonTests {
       : b_(b), p_(p), rule_(rule) {}
 
   bool complete(std::int32_t i) {
-    const auto it = complete_.find(i);
-    if (it != complete_.end()) return it->second;
+    if (complete_.empty()) complete_.assign(p_.size(), -1);
+    if (complete_[static_cast<std::size_t>(i)] >= 0)
+      return complete_[static_cast<std::size_t>(i)] == 1;
     const auto u = static_cast<std::size_t>(i);
     double m[3] = {0, 0, 0}, v = 0.0;
     for_each_own_bond(b_, u, [&](std::int64_t k, std::size_t j) {
@@ -68,7 +78,9 @@ class HorizonTests {
         m[a] += w * (p_.reference_position[a][j] - p_.reference_position[a][u]);
     });
     const double first = std::sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
-    return complete_[i] = v > 0.0 && first < complete_horizon_moment(p_.dim()) * v * p_.horizon[u];
+    const bool complete = v > 0.0 && first < complete_horizon_moment(p_.dim()) * v * p_.horizon[u];
+    complete_[u] = complete ? 1 : 0;
+    return complete;
   }
 
   /// Calls f(partner) for every particle i shares a bond with (own or dual).
@@ -108,8 +120,8 @@ class HorizonTests {
   const BondRows& b_;
   const ParticleStore& p_;
   PartialVolume rule_;
-  std::unordered_map<std::int32_t, bool> complete_;
-  std::vector<std::int8_t> jump_;  ///< per particle: −1 not asked yet, else at_jump's answer
+  std::vector<std::int8_t> complete_;  ///< per particle: −1 not asked yet, else complete()
+  std::vector<std::int8_t> jump_;      ///< per particle: −1 not asked yet, else at_jump's answer
 };
 
 /// One unknown: bond b between constrained particles li (owner) and lj, a_b = (V_j N, −V_i N).
@@ -267,25 +279,26 @@ System assemble(const BondRows& b, const ParticleStore& p, PartialVolume rule,
   const int c = sys.c;
   sys.constrained = std::move(constrained);
   const std::size_t n = sys.constrained.size();
-  std::unordered_map<std::int32_t, std::int32_t> local;
-  for (std::size_t k = 0; k < n; ++k) local[sys.constrained[k]] = static_cast<std::int32_t>(k);
+  std::vector<std::int32_t> local(p.size(), -1);  // particle -> unknown block
+  for (std::size_t k = 0; k < n; ++k)
+    local[static_cast<std::size_t>(sys.constrained[k])] = static_cast<std::int32_t>(k);
   sys.touched.assign(n, 0);
   sys.diag.assign(n, Block::Zero(c, c));
   for (std::size_t k = 0; k < n; ++k) {
     const auto i = static_cast<std::size_t>(sys.constrained[k]);
     for_each_own_bond(b, i, [&](std::int64_t e, std::size_t j) {
-      const auto it = local.find(static_cast<std::int32_t>(j));
-      if (it == local.end()) return;
+      const std::int32_t other = local[j];
+      if (other < 0) return;
       const Unknown u{e,
                       static_cast<std::int32_t>(k),
-                      it->second,
+                      other,
                       C[i] * bond_weight(p, rule, i, j, b.length(e)),
                       p.volume[i],
                       p.volume[j],
                       moment_of(p, i, j)};
       sys.diag[k] += (u.K * u.vj * u.vj) * u.N * u.N.transpose();
       sys.diag[static_cast<std::size_t>(u.lj)] += (u.K * u.vi * u.vi) * u.N * u.N.transpose();
-      ++sys.touched[k], ++sys.touched[static_cast<std::size_t>(it->second)];
+      ++sys.touched[k], ++sys.touched[static_cast<std::size_t>(other)];
       sys.us.push_back(u);
     });
   }
@@ -335,9 +348,11 @@ InterfaceCorrection correct_level_interfaces(BondRows& b, const ParticleStore& p
                                              PartialVolume rule, const std::vector<double>& C,
                                              const std::vector<std::int32_t>& region) {
   InterfaceCorrection out;
-  const Region in{region, region.empty()};
-  const std::size_t n = in.all ? p.size() : region.size();
-  auto particle = [&](std::size_t k) { return in.all ? static_cast<std::int32_t>(k) : region[k]; };
+  const Region in(region, p.size());
+  const std::size_t n = in.all() ? p.size() : region.size();
+  auto particle = [&](std::size_t k) {
+    return in.all() ? static_cast<std::int32_t>(k) : region[k];
+  };
   if (!b.factor.empty())
     for (std::size_t k = 0; k < n; ++k) {  // reset the factors inside the region
       const auto i = static_cast<std::size_t>(particle(k));
