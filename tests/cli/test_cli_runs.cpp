@@ -434,6 +434,12 @@ TEST_F(CliTest, LevelsAreShownByDefaultOnlyWhereTheSceneCanHaveThem) {
   const auto dir = run_plate("patch", {}, {patch, "effects.fracture=false"});
   const auto levels = read_json(dir / "summary.json").at("time_levels").at("particles");
   EXPECT_EQ(levels.size(), 2u);
+  // run.log says what the finest particles step at (dt there is dt0).
+  EXPECT_NE(read_text(dir / "run.log")
+                .find(fmt::format(
+                    "dhpd: 2 time levels (docs/theory.md §19): particles {} / {}; steps dt0 = ",
+                    levels[0].get<std::int64_t>(), levels[1].get<std::int64_t>())),
+            std::string::npos);
   const auto history = read_text(dir / "history.csv");
   EXPECT_NE(history.find("particles_level_0"), std::string::npos);
   const auto plain = run_plate("plain", {}, {"effects.fracture=false"});

@@ -69,10 +69,14 @@ void RefinementHook::log(const Simulation& sim, const refine::RefinementEvent& e
   log_lines.line(fmt::format(
       "dhpd: refinement {} at step {} (t = {:.4g} s): {} parents -> {} children; {} "
       "particles; {} rows, {} bonds rebuilt ({} start broken by no-healing, {} overstretched); "
-      "dt = {:.4g} s; {:.4f} s{}",
+      "dt = {:.4g} s{}; {:.4f} s{}",
       r.generation, r.step, r.time, r.parents, r.children, r.particles, r.rows_rebuilt,
-      r.bonds_rebuilt, r.started_broken, r.started_overstretched, r.dt, r.seconds,
-      ev.resorted ? fmt::format(" (+ re-sort {:.4f} s)", ev.resort_seconds) : ""));
+      r.bonds_rebuilt, r.started_broken, r.started_overstretched, r.dt,
+      sim.time_levels()
+          ? fmt::format(" over {} time levels (particles {})", sim.time_levels()->count(),
+                        fmt::join(sim.particles_per_level(), " / "))
+          : "",
+      r.seconds, ev.resorted ? fmt::format(" (+ re-sort {:.4f} s)", ev.resort_seconds) : ""));
 }
 
 namespace {
@@ -108,6 +112,12 @@ void log_start(RunLog& log, const scene::Scene& s, const Simulation& sim, std::i
       "dhpd: {} particles, {} bonds in {} row entries; dt = {:.4g} s (stable {:.4g} s), {} steps{}",
       sim.particles().size(), sim.bonds().bond_count(), sim.bonds().live, sim.dt(),
       sim.critical_dt(), steps, s.refinement ? " at the start (refinement shortens dt)" : ""));
+  if (const auto* levels = sim.time_levels())  // dt is dt0: say what the finest particles take
+    log.line(
+        fmt::format("dhpd: {} time levels (docs/theory.md §19): particles {}; steps dt0 = "
+                    "{:.4g} s down to {:.4g} s",
+                    levels->count(), fmt::join(sim.particles_per_level(), " / "), levels->dt0,
+                    levels->dt(levels->count() - 1)));
   log.line(fmt::format("dhpd: active effects: elasticity{}{}; threads {}; output in {}",
                        s.effects.fracture ? ", fracture" : "", s.refinement ? ", refinement" : "",
                        omp_get_max_threads(), dir.string()));
