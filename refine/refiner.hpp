@@ -75,6 +75,10 @@ class Refiner {
     const auto period = std::max<std::int64_t>(1, s_.check_every >> std::clamp(levels - 1, 0, 62));
     return s_.trigger.any() && step % period == 0;
   }
+  /// due() with the time levels `sim` steps at now.
+  bool due(std::int64_t step, const Simulation& sim) const {
+    return due(step, sim.time_levels() ? sim.time_levels()->count() : 1);
+  }
   /// Triggers, buffer and grading; applies the event when there are parents (parents == 0 in
   /// the returned event otherwise).
   RefinementEvent check(Simulation& sim);

@@ -20,9 +20,7 @@ struct AdaptiveRun {
   void advance(std::int64_t steps) {
     for (std::int64_t k = 0; k < steps; ++k) {
       sim.step();
-      // As the runner does: checks counted in steps of the finest time level.
-      const int levels = sim.time_levels() ? sim.time_levels()->count() : 1;
-      if (!refiner->due(sim.steps_done(), levels)) continue;
+      if (!refiner->due(sim.steps_done(), sim)) continue;  // as the runner asks
       const auto ev = refiner->check(sim);
       events += ev.parents > 0 ? 1 : 0;
       resorts += ev.resorted ? 1 : 0;

@@ -186,8 +186,7 @@ void time_loop(RunContext& ctx, io::Progress& progress) {
       if (ctx.cracks) ctx.cracks->flush();
     }
     // A signal already caught starts no refinement event: the run stops after this step.
-    const int levels = sim.time_levels() ? sim.time_levels()->count() : 1;
-    if (hook && hook->refiner.due(k, levels) && !signals.caught()) {
+    if (hook && hook->refiner.due(k, sim) && !signals.caught()) {
       try {
         const auto ev = hook->refiner.check(sim);
         if (ev.parents > 0) hook->log(sim, ev);
