@@ -57,12 +57,11 @@ struct CheckpointAccess {
     r.count.resize(b.particles());
     r.flags.reserve(static_cast<std::size_t>(b.live));
     if (!b.factor.empty()) r.factor.reserve(static_cast<std::size_t>(b.live));
-    for (std::size_t i = 0; i < b.particles(); ++i) {
+    for (std::size_t i = 0; i < b.particles(); ++i) {  // each row's entries as one block
       r.count[i] = b.rows.count[i];
-      for (auto k = b.begin(i); k < b.end(i); ++k) {
-        r.flags.push_back(b.flags[k]);
-        if (!b.factor.empty()) r.factor.push_back(b.factor[k]);
-      }
+      r.flags.insert(r.flags.end(), b.flags.begin() + b.begin(i), b.flags.begin() + b.end(i));
+      if (!b.factor.empty())
+        r.factor.insert(r.factor.end(), b.factor.begin() + b.begin(i), b.factor.begin() + b.end(i));
     }
     return r;
   }
