@@ -6,6 +6,7 @@
 #include <cmath>
 #include <memory>
 
+#include "engine/base/parallel.hpp"
 #include "engine/discretization/neighbor_search.hpp"
 #include "engine/physics/bond_law.hpp"
 #include "engine/physics/bond_loops.hpp"
@@ -38,7 +39,9 @@ std::vector<double> max_bond_stretch(const Simulation& sim) {
   const auto& p = sim.particles();
   const auto& b = sim.bonds();
   std::vector<double> out(p.size(), 0.0);
-  for (std::size_t i = 0; i < p.size(); ++i)
+  const auto n = static_cast<std::int64_t>(p.size());
+#pragma omp parallel for schedule(static) if (n >= kParallelMinParticles)
+  for (std::int64_t i = 0; i < n; ++i)  // each row its own maximum: the same for any team
     for (auto k = b.begin(i); k < b.end(i); ++k) {
       if (!b.own_intact(k)) continue;
       const auto j = static_cast<std::size_t>(b.other[k]);

@@ -94,7 +94,9 @@ TEST_P(MultiRate, ConservesMomentumExactlyWhileBondsBreak) {
   std::printf("dim %d, %d steps, %lld bonds broken: |ΔP|/Σ|p| = %.2e, |ΔL|/Σ|y×p| = %.2e\n", dim,
               steps, static_cast<long long>(sim.broken_bonds()), dp, dl);
   EXPECT_LT(dp, 1e-12);
-  if (dim > 1) EXPECT_LT(dl, 1e-12);
+  if (dim > 1) {
+    EXPECT_LT(dl, 1e-12);
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Dimensions, MultiRate, ::testing::Values(1, 2, 3));
