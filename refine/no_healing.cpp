@@ -2,7 +2,9 @@
 #include "refine/no_healing.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <limits>
 
 #include "engine/physics/bond_law.hpp"
 #include "geometry/predicates.hpp"
@@ -50,56 +52,106 @@ OldSegments::OldSegments(const OldGeneration& old, std::vector<std::int32_t> own
     : old_(old), owners_(std::move(owners)), dim_(old.particles.dim()) {
   const auto& b = old.bonds;
   for (const auto i : owners_)
-    for_each_own_bond(b, static_cast<std::size_t>(i),
-                      [&](std::int64_t k, std::size_t) { cell_ = std::max(cell_, b.length(k)); });
-  // Bins a quarter of the longest bond wide: a query scans about the volume a crossing bond's
-  // midpoint can lie in, (longest + |a–b|)^dim, instead of 3^dim times the longest bond.
-  max_length_ = cell_;
-  cell_ *= 0.25;
+    for_each_own_bond(b, static_cast<std::size_t>(i), [&](std::int64_t k, std::size_t) {
+      max_length_ = std::max(max_length_, b.length(k));
+    });
+  std::vector<std::pair<std::int32_t, std::int32_t>> broken;
   for (const auto i : owners_)
     for_each_own_bond(b, static_cast<std::size_t>(i), [&](std::int64_t k, std::size_t j) {
-      if (!b.own_intact(k)) bin(broken_, i, static_cast<std::int32_t>(j));
+      if (!b.own_intact(k)) broken.emplace_back(i, static_cast<std::int32_t>(j));
     });
+  broken_ = binned(broken);
 }
 
-void OldSegments::bin(Bins& bins, std::int32_t owner, std::int32_t neighbor) const {
-  const Segment seg{old_.position(owner), old_.position(neighbor), owner, neighbor};
-  const Vec3 m = 0.5 * (seg.c + seg.d);
-  std::int64_t c[3] = {0, 0, 0};
-  for (int a = 0; a < dim_; ++a) c[a] = static_cast<std::int64_t>(std::floor(m[a] / cell_));
-  bins[(c[0] * 2147483659LL + c[1]) * 1000003LL + c[2]].push_back(seg);
+OldSegments::Bins OldSegments::binned(
+    const std::vector<std::pair<std::int32_t, std::int32_t>>& pairs) const {
+  Bins bins;
+  if (pairs.empty()) return bins;
+  auto midpoint = [&](const std::pair<std::int32_t, std::int32_t>& e) {
+    return 0.5 * (old_.position(e.first) + old_.position(e.second));
+  };
+  Vec3 low = midpoint(pairs[0]), high = low;
+  for (const auto& e : pairs) {
+    const Vec3 m = midpoint(e);
+    for (int a = 0; a < dim_; ++a)
+      low[a] = std::min(low[a], m[a]), high[a] = std::max(high[a], m[a]);
+  }
+  // Cells a quarter of the longest bond wide (a query then scans about the volume a crossing
+  // bond's midpoint can lie in), or wider where that would give more than about four cells per
+  // segment (midpoints spread over a large body): the cell width changes the work, not the count.
+  double volume = 1.0;
+  for (int a = 0; a < dim_; ++a) volume *= high[a] - low[a] + 0.25 * max_length_;
+  bins.cell = std::max(0.25 * max_length_,
+                       std::pow(volume / (4.0 * static_cast<double>(pairs.size())), 1.0 / dim_));
+  for (int a = 0; a < 3; ++a) {
+    bins.lo[a] = a < dim_ ? static_cast<std::int64_t>(std::floor(low[a] / bins.cell)) : 0;
+    bins.n[a] =
+        a < dim_ ? static_cast<std::int64_t>(std::floor(high[a] / bins.cell)) - bins.lo[a] + 1 : 1;
+  }
+  std::vector<std::int64_t> cell_of(pairs.size());  // per pair, its cell
+  for (std::size_t k = 0; k < pairs.size(); ++k) {
+    const Vec3 m = midpoint(pairs[k]);
+    std::int64_t c[3] = {0, 0, 0};
+    for (int a = 0; a < dim_; ++a)
+      c[a] = static_cast<std::int64_t>(std::floor(m[a] / bins.cell)) - bins.lo[a];
+    cell_of[k] = (c[2] * bins.n[1] + c[1]) * bins.n[0] + c[0];
+  }
+  bins.first.assign(static_cast<std::size_t>(bins.n[0] * bins.n[1] * bins.n[2] + 1), 0);
+  for (const auto c : cell_of) ++bins.first[static_cast<std::size_t>(c + 1)];
+  for (std::size_t k = 1; k < bins.first.size(); ++k) bins.first[k] += bins.first[k - 1];
+  bins.segments.resize(pairs.size());
+  bins.boxes.resize(pairs.size());
+  auto next = bins.first;
+  constexpr float inf = std::numeric_limits<float>::infinity();
+  for (std::size_t k = 0; k < pairs.size(); ++k) {
+    const auto at = static_cast<std::size_t>(next[static_cast<std::size_t>(cell_of[k])]++);
+    bins.segments[at] = Segment{pairs[k].first, pairs[k].second};
+    const Vec3 c = old_.position(pairs[k].first), d = old_.position(pairs[k].second);
+    for (int a = 0; a < 3; ++a) {
+      bins.boxes[at][a] = std::nextafter(static_cast<float>(std::min(c[a], d[a])), -inf);
+      bins.boxes[at][3 + a] = std::nextafter(static_cast<float>(std::max(c[a], d[a])), inf);
+    }
+  }
+  return bins;
 }
 
 std::size_t OldSegments::count(const Bins& bins, const Vec3& a, const Vec3& b, std::int32_t skip,
                                double tube) const {
-  const Vec3 m = 0.5 * (a + b);
-  const double reach = 0.5 * max_length_ + 0.5 * norm(b - a) + tube;
+  // A segment with a point in the box of a–b grown by the tube has its midpoint in that box grown
+  // by half the longest bond more; one whose own box misses the first cannot cross.
+  Vec3 box_lo{0, 0, 0}, box_hi{0, 0, 0};
   std::int64_t lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
   for (int d = 0; d < dim_; ++d) {
-    lo[d] = static_cast<std::int64_t>(std::floor((m[d] - reach) / cell_));
-    hi[d] = static_cast<std::int64_t>(std::floor((m[d] + reach) / cell_));
-  }
-  // Bounding box of a–b grown by the tube: a segment whose box misses it cannot cross.
-  Vec3 box_lo{0, 0, 0}, box_hi{0, 0, 0};
-  for (int d = 0; d < dim_; ++d)
     box_lo[d] = std::min(a[d], b[d]) - tube, box_hi[d] = std::max(a[d], b[d]) + tube;
-  auto misses = [&](const Segment& s) {
+    lo[d] = static_cast<std::int64_t>(std::floor((box_lo[d] - 0.5 * max_length_) / bins.cell));
+    hi[d] = static_cast<std::int64_t>(std::floor((box_hi[d] + 0.5 * max_length_) / bins.cell));
+  }
+  for (int d = 0; d < 3; ++d) {
+    lo[d] = std::max(lo[d], bins.lo[d]) - bins.lo[d];
+    hi[d] = std::min(hi[d], bins.lo[d] + bins.n[d] - 1) - bins.lo[d];
+    if (hi[d] < lo[d]) return 0;
+  }
+  // A box that misses the query's cannot cross it; the float boxes contain the segments' own.
+  auto misses = [&](const std::array<float, 6>& box) {
     for (int d = 0; d < dim_; ++d)
-      if (std::max(s.c[d], s.d[d]) < box_lo[d] || std::min(s.c[d], s.d[d]) > box_hi[d]) return true;
+      if (box[3 + d] < box_lo[d] || box[d] > box_hi[d]) return true;
     return false;
   };
   std::size_t n = 0;
-  for (auto cx = lo[0]; cx <= hi[0]; ++cx)
-    for (auto cy = lo[1]; cy <= hi[1]; ++cy)
-      for (auto cz = lo[2]; cz <= hi[2]; ++cz) {
-        const auto it = bins.find((cx * 2147483659LL + cy) * 1000003LL + cz);
-        if (it == bins.end()) continue;
-        for (const auto& s : it->second) {
-          if (s.owner == skip || s.neighbor == skip || misses(s)) continue;
-          n += dim_ == 2 ? segments_cross_properly(a, b, s.c, s.d)
-                         : segment_passes_through_tube(a, b, s.c, s.d, tube);
-        }
+  for (auto cz = lo[2]; cz <= hi[2]; ++cz)
+    for (auto cy = lo[1]; cy <= hi[1]; ++cy) {
+      const auto row = (cz * bins.n[1] + cy) * bins.n[0];
+      const auto first = bins.first[static_cast<std::size_t>(row + lo[0])];
+      const auto last = bins.first[static_cast<std::size_t>(row + hi[0] + 1)];
+      for (auto k = first; k < last; ++k) {  // the cells lo[0]..hi[0] of this row, one run
+        if (misses(bins.boxes[static_cast<std::size_t>(k)])) continue;
+        const auto& s = bins.segments[static_cast<std::size_t>(k)];
+        if (s.owner == skip || s.neighbor == skip) continue;
+        const Vec3 c = old_.position(s.owner), d = old_.position(s.neighbor);
+        n += dim_ == 2 ? segments_cross_properly(a, b, c, d)
+                       : segment_passes_through_tube(a, b, c, d, tube);
       }
+    }
   return n;
 }
 
@@ -109,13 +161,14 @@ OldSegments::Crossings OldSegments::crossing(const Vec3& a, const Vec3& b, std::
   if (broken_.empty() || dim_ == 1) return out;
   out.broken = count(broken_, a, b, skip, tube);
   if (!count_all || out.broken == 0) return out;
-  if (!all_built_) {
+  std::call_once(all_built_, [&] {
+    std::vector<std::pair<std::int32_t, std::int32_t>> pairs;
     for (const auto i : owners_)
       for_each_own_bond(old_.bonds, static_cast<std::size_t>(i), [&](std::int64_t, std::size_t j) {
-        bin(all_, i, static_cast<std::int32_t>(j));
+        pairs.emplace_back(i, static_cast<std::int32_t>(j));
       });
-    all_built_ = true;
-  }
+    all_ = binned(pairs);
+  });
   out.all = count(all_, a, b, skip, tube);
   return out;
 }

@@ -3,8 +3,10 @@
 // the broken bonds of the previous generation. One rule, used by the incremental event and by the
 // from-scratch reference the tests compare it with.
 #pragma once
+#include <array>
 #include <cstdint>
-#include <unordered_map>
+#include <mutex>
+#include <utility>
 #include <vector>
 
 #include "engine/discretization/bonds.hpp"
@@ -45,20 +47,30 @@ class OldSegments {
 
  private:
   struct Segment {
-    geometry::Vec3 c, d;  ///< endpoints (reference positions of the previous generation)
-    std::int32_t owner, neighbor;
+    std::int32_t owner, neighbor;  ///< its ends (their previous reference positions: old_)
   };
-  using Bins = std::unordered_map<std::int64_t, std::vector<Segment>>;
-  void bin(Bins& bins, std::int32_t owner, std::int32_t neighbor) const;
+  /// Segments sorted by the cell of their midpoint, over the box of cells that holds them (a
+  /// dense grid: a query reads its cells by index, not by hashing).
+  struct Bins {
+    double cell = 1.0;  ///< cell width
+    std::int64_t lo[3] = {0, 0, 0}, n[3] = {0, 0, 0};
+    std::vector<std::int64_t> first;  ///< per cell, its first segment; the count at the end
+    std::vector<Segment> segments;
+    /// Per segment its box in floats rounded outwards (lows, then highs): a query reads these 24
+    /// bytes and looks up the ends of the few whose box meets its own.
+    std::vector<std::array<float, 6>> boxes;
+    bool empty() const { return segments.empty(); }
+  };
+  Bins binned(const std::vector<std::pair<std::int32_t, std::int32_t>>& pairs) const;
   std::size_t count(const Bins& bins, const geometry::Vec3& a, const geometry::Vec3& b,
                     std::int32_t skip, double tube) const;
 
   const OldGeneration& old_;
   std::vector<std::int32_t> owners_;
   Bins broken_;
-  mutable Bins all_;  ///< built on first use
-  mutable bool all_built_ = false;
-  double cell_ = 0.0, max_length_ = 0.0;
+  mutable Bins all_;  ///< built on first use (by one thread; the others wait for it)
+  mutable std::once_flag all_built_;
+  double max_length_ = 0.0;
   int dim_ = 2;
 };
 

@@ -4,6 +4,7 @@
 #include "refine/rebuild.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "engine/base/errors.hpp"
@@ -98,7 +99,8 @@ std::vector<std::int32_t> owners_to_rebuild(const Simulation& sim, const Spatial
 
 namespace {
 /// Phase 1: the owners' new own bonds, decided against the previous generation (nothing
-/// committed yet).
+/// committed yet). Each row is decided on its own (in parallel, in chunks between which the
+/// event may be cancelled); the counts are summed in row order.
 std::vector<std::vector<NewBond>> decide_rows(const Simulation& sim, const SpatialGrid& grid,
                                               const EventScratch& ev, RefinementEvent& out,
                                               const CancelCheck& cancelled) {
@@ -115,12 +117,11 @@ std::vector<std::vector<NewBond>> decide_rows(const Simulation& sim, const Spati
     const auto c = child_of_slot[static_cast<std::size_t>(x)];
     return c < 0 ? x : plan.parents[static_cast<std::size_t>(plan.child_parent[c])];
   };
+  const auto n = static_cast<std::int64_t>(ev.owners.size());
   std::vector<std::vector<NewBond>> rows(ev.owners.size());
-  std::vector<std::int32_t> cand;
+  std::vector<std::array<std::size_t, 2>> started(ev.owners.size(), {0, 0});
   const auto& X = p.reference_position;
-  CancelPoll poll(cancelled);
-  for (std::size_t r = 0; r < ev.owners.size(); ++r) {
-    poll("deciding the new rows");
+  auto decide = [&](std::int64_t r, std::vector<std::int32_t>& cand) {
     const auto i = ev.owners[r];
     const auto u = static_cast<std::size_t>(i);
     grid.within(point_of(X, u), builder.search_radius(u), cand, i);
@@ -134,10 +135,23 @@ std::vector<std::vector<NewBond>> decide_rows(const Simulation& sim, const Spati
       const bool over = !cut && fracture &&
                         starts_overstretched(p, u, v, inverse_reference_length(p, u, v), s0[u]);
       rows[r].push_back({j, !(cut || over)});
-      out.started_broken += cut ? 1 : 0;
-      out.started_overstretched += over ? 1 : 0;
+      started[r][0] += cut ? 1 : 0;
+      started[r][1] += over ? 1 : 0;
+    }
+  };
+  constexpr std::int64_t kChunk = 256;
+  for (std::int64_t begin = 0; begin < n; begin += kChunk) {
+    if (cancelled && cancelled())
+      throw EventCancelled("refinement event cancelled while deciding the new rows");
+    const auto end = std::min(n, begin + kChunk);
+#pragma omp parallel if (end - begin >= 32)
+    {
+      std::vector<std::int32_t> cand;
+#pragma omp for schedule(dynamic, 4)
+      for (std::int64_t r = begin; r < end; ++r) decide(r, cand);
     }
   }
+  for (const auto& s : started) out.started_broken += s[0], out.started_overstretched += s[1];
   return rows;
 }
 
