@@ -109,13 +109,16 @@ std::vector<std::int32_t> replace_own_bonds(BondRows& b, const ParticleStore& p,
   std::sort(touched.begin(), touched.end());
   touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
   std::sort(dual_new.begin(), dual_new.end());
-  // Merge every touched row from the current rows first, then write them all: a row's merge reads
-  // only its own entries, and the others' are not needed.
+  // Merge every touched row from the current rows first (each on its own, in parallel), then
+  // write them all in order: a row's merge reads only its own entries, and the others' are not
+  // needed.
   std::vector<std::vector<Entry>> merged(touched.size());
-  auto d = dual_new.begin();
-  for (std::size_t r = 0; r < touched.size(); ++r) {
+  const auto n = static_cast<std::int64_t>(touched.size());
+#pragma omp parallel for schedule(dynamic, 64) if (n >= 256)
+  for (std::int64_t r = 0; r < n; ++r) {
     const auto t = touched[r];
-    while (d != dual_new.end() && std::get<0>(*d) < t) ++d;
+    const auto by_row = [](const DualSide& e, std::int32_t x) { return std::get<0>(e) < x; };
+    const auto d = std::lower_bound(dual_new.begin(), dual_new.end(), t, by_row);
     auto last = d;
     while (last != dual_new.end() && std::get<0>(*last) == t) ++last;
     const auto o = std::lower_bound(owners.begin(), owners.end(), t);
@@ -123,8 +126,7 @@ std::vector<std::int32_t> replace_own_bonds(BondRows& b, const ParticleStore& p,
     merge_row(b, t, owners,
               is_owner ? &bonds[static_cast<std::size_t>(o - owners.begin())] : nullptr,
               dual_new.data() + (d - dual_new.begin()), dual_new.data() + (last - dual_new.begin()),
-              merged[r]);
-    d = last;
+              merged[static_cast<std::size_t>(r)]);
   }
   LengthInterner lengths(b.inverse_lengths);
   for (std::size_t r = 0; r < touched.size(); ++r) write_row(b, p, touched[r], merged[r], lengths);
