@@ -70,12 +70,20 @@ OldSegments::Bins OldSegments::binned(
   auto midpoint = [&](const std::pair<std::int32_t, std::int32_t>& e) {
     return 0.5 * (old_.position(e.first) + old_.position(e.second));
   };
-  Vec3 low = midpoint(pairs[0]), high = low;
-  for (const auto& e : pairs) {
-    const Vec3 m = midpoint(e);
-    for (int a = 0; a < dim_; ++a)
-      low[a] = std::min(low[a], m[a]), high[a] = std::max(high[a], m[a]);
+  const auto n = static_cast<std::int64_t>(pairs.size());
+  const bool parallel = n >= 16384;  // the per-pair passes in parallel (min, max: any order)
+  const Vec3 first = midpoint(pairs[0]);
+  double lx = first[0], ly = first[1], lz = first[2], hx = lx, hy = ly, hz = lz;
+#pragma omp parallel for schedule(static) if (parallel) reduction(min           \
+                                                                  : lx, ly, lz) \
+    reduction(max                                                               \
+              : hx, hy, hz)
+  for (std::int64_t k = 0; k < n; ++k) {
+    const Vec3 m = midpoint(pairs[k]);
+    lx = std::min(lx, m[0]), ly = std::min(ly, m[1]), lz = std::min(lz, m[2]);
+    hx = std::max(hx, m[0]), hy = std::max(hy, m[1]), hz = std::max(hz, m[2]);
   }
+  const Vec3 low{lx, ly, lz}, high{hx, hy, hz};
   // Cells a quarter of the longest bond wide (a query then scans about the volume a crossing
   // bond's midpoint can lie in), or wider where that would give more than about four cells per
   // segment (midpoints spread over a large body): the cell width changes the work, not the count.
@@ -88,13 +96,14 @@ OldSegments::Bins OldSegments::binned(
     bins.n[a] =
         a < dim_ ? static_cast<std::int64_t>(std::floor(high[a] / bins.cell)) - bins.lo[a] + 1 : 1;
   }
-  std::vector<std::int64_t> cell_of(pairs.size());  // per pair, its cell
-  for (std::size_t k = 0; k < pairs.size(); ++k) {
+  std::vector<std::int64_t> cell_of(pairs.size());  // per pair, its cell, then its place
+#pragma omp parallel for schedule(static) if (parallel)
+  for (std::int64_t k = 0; k < n; ++k) {
     const Vec3 m = midpoint(pairs[k]);
-    std::int64_t c[3] = {0, 0, 0};
+    std::int64_t cell[3] = {0, 0, 0};
     for (int a = 0; a < dim_; ++a)
-      c[a] = static_cast<std::int64_t>(std::floor(m[a] / bins.cell)) - bins.lo[a];
-    cell_of[k] = (c[2] * bins.n[1] + c[1]) * bins.n[0] + c[0];
+      cell[a] = static_cast<std::int64_t>(std::floor(m[a] / bins.cell)) - bins.lo[a];
+    cell_of[k] = (cell[2] * bins.n[1] + cell[1]) * bins.n[0] + cell[0];
   }
   bins.first.assign(static_cast<std::size_t>(bins.n[0] * bins.n[1] * bins.n[2] + 1), 0);
   for (const auto c : cell_of) ++bins.first[static_cast<std::size_t>(c + 1)];
@@ -102,9 +111,11 @@ OldSegments::Bins OldSegments::binned(
   bins.segments.resize(pairs.size());
   bins.boxes.resize(pairs.size());
   auto next = bins.first;
+  for (auto& c : cell_of) c = next[static_cast<std::size_t>(c)]++;
   constexpr float inf = std::numeric_limits<float>::infinity();
-  for (std::size_t k = 0; k < pairs.size(); ++k) {
-    const auto at = static_cast<std::size_t>(next[static_cast<std::size_t>(cell_of[k])]++);
+#pragma omp parallel for schedule(static) if (parallel)
+  for (std::int64_t k = 0; k < n; ++k) {  // each pair to its own place
+    const auto at = static_cast<std::size_t>(cell_of[k]);
     bins.segments[at] = Segment{pairs[k].first, pairs[k].second};
     const Vec3 c = old_.position(pairs[k].first), d = old_.position(pairs[k].second);
     for (int a = 0; a < 3; ++a) {
