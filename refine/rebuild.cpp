@@ -23,21 +23,45 @@ double widest_bond(const Simulation& sim) {
   return (sim.max_horizon() + sim.bond_reach()) * (1.0 + 1e-9);
 }
 
+/// Calls f(k, scratch, found) for k in [0, n) in parallel, in chunks between which the event may
+/// be cancelled; what each thread appends to its `found` joins `out` (callers sort it, so the
+/// order does not matter).
+template <class F>
+void each_in_chunks(std::size_t n, const CancelCheck& cancelled, const char* what,
+                    std::vector<std::int32_t>& out, F&& f) {
+  constexpr std::size_t kChunk = 256;
+  for (std::size_t begin = 0; begin < n; begin += kChunk) {
+    if (cancelled && cancelled())
+      throw EventCancelled(std::string("refinement event cancelled while ") + what);
+    const auto end = static_cast<std::int64_t>(std::min(n, begin + kChunk));
+#pragma omp parallel if (end - static_cast <std::int64_t>(begin) >= 32)
+    {
+      std::vector<std::int32_t> scratch, found;
+#pragma omp for schedule(dynamic, 8) nowait
+      for (auto k = static_cast<std::int64_t>(begin); k < end; ++k)
+        f(static_cast<std::size_t>(k), scratch, found);
+#pragma omp critical(dhpd_rebuild_join)
+      out.insert(out.end(), found.begin(), found.end());
+    }
+  }
+}
+
 /// Every particle within `radius(q)` of a parent q, and the parents, ascending.
 template <class Radius>
 std::vector<std::int32_t> around_parents(const Simulation& sim, const SpatialGrid& grid,
                                          const SplitPlan& plan, Radius radius,
                                          const CancelCheck& cancelled) {
   const auto& p = sim.particles();
-  std::vector<std::int32_t> out, found;
-  CancelPoll poll(cancelled);
-  for (const auto q : plan.parents) {
-    poll("searching around the parents");
-    const auto u = static_cast<std::size_t>(q);
-    grid.within(point_of(p.reference_position, u), radius(u), found);
-    out.insert(out.end(), found.begin(), found.end());
-    out.push_back(q);
-  }
+  std::vector<std::int32_t> out;
+  each_in_chunks(
+      plan.parents.size(), cancelled, "searching around the parents", out,
+      [&](std::size_t k, std::vector<std::int32_t>& found, std::vector<std::int32_t>& to) {
+        const auto q = plan.parents[k];
+        const auto u = static_cast<std::size_t>(q);
+        grid.within(point_of(p.reference_position, u), radius(u), found);
+        to.insert(to.end(), found.begin(), found.end());
+        to.push_back(q);
+      });
   sort_unique(out);
   return out;
 }
@@ -71,7 +95,7 @@ std::vector<std::int32_t> owners_to_rebuild(const Simulation& sim, const Spatial
   const auto& plan = ev.plan;
   const auto& p = sim.particles();
   const auto& bonds = sim.bonds();
-  std::vector<std::int32_t> owners(plan.child_slot), found;
+  std::vector<std::int32_t> owners(plan.child_slot);
   for (const auto q : plan.parents) {  // owners of bonds on the parents (the dual side of q's row)
     const auto u = static_cast<std::size_t>(q);
     for (auto k = bonds.begin(u); k < bonds.end(u); ++k)
@@ -80,19 +104,19 @@ std::vector<std::int32_t> owners_to_rebuild(const Simulation& sim, const Spatial
   const BondRowBuilder builder(p, sim.setup().partial_volume, sim.setup().cracks, sim.bond_reach());
   const double widest = widest_bond(sim);
   const auto& X = p.reference_position;
-  CancelPoll poll(cancelled);
-  for (std::size_t c = 0; c < plan.child_slot.size(); ++c) {
-    poll("finding the rows to rebuild");
-    const auto& xc = plan.child_position[c];
-    grid.within(xc, widest, found);
-    for (const auto k : found) {  // unsplit particles whose horizon reaches the child
-      if ((*ev.child_of_slot)[static_cast<std::size_t>(k)] >= 0) continue;
-      double d2 = 0.0;
-      for (int a = 0; a < p.dim(); ++a) d2 += (X[a][k] - xc[a]) * (X[a][k] - xc[a]);
-      const double r = builder.search_radius(static_cast<std::size_t>(k));
-      if (d2 < r * r) owners.push_back(k);
-    }
-  }
+  each_in_chunks(
+      plan.child_slot.size(), cancelled, "finding the rows to rebuild", owners,
+      [&](std::size_t c, std::vector<std::int32_t>& found, std::vector<std::int32_t>& to) {
+        const auto& xc = plan.child_position[c];
+        grid.within(xc, widest, found);
+        for (const auto k : found) {  // unsplit particles whose horizon reaches c
+          if ((*ev.child_of_slot)[static_cast<std::size_t>(k)] >= 0) continue;
+          double d2 = 0.0;
+          for (int a = 0; a < p.dim(); ++a) d2 += (X[a][k] - xc[a]) * (X[a][k] - xc[a]);
+          const double r = builder.search_radius(static_cast<std::size_t>(k));
+          if (d2 < r * r) to.push_back(k);
+        }
+      });
   sort_unique(owners);
   return owners;
 }
