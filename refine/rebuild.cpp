@@ -24,11 +24,11 @@ double widest_bond(const Simulation& sim) {
 }
 
 /// Calls f(k, scratch, found) for k in [0, n) in parallel, in chunks between which the event may
-/// be cancelled; what each thread appends to its `found` joins `out` (callers sort it, so the
-/// order does not matter).
+/// be cancelled; what each thread appends to its `found` joins `*out` when given (callers sort
+/// it, so the order does not matter).
 template <class F>
 void each_in_chunks(std::size_t n, const CancelCheck& cancelled, const char* what,
-                    std::vector<std::int32_t>& out, F&& f) {
+                    std::vector<std::int32_t>* out, F&& f) {
   constexpr std::size_t kChunk = 256;
   for (std::size_t begin = 0; begin < n; begin += kChunk) {
     if (cancelled && cancelled())
@@ -40,8 +40,10 @@ void each_in_chunks(std::size_t n, const CancelCheck& cancelled, const char* wha
 #pragma omp for schedule(dynamic, 8) nowait
       for (auto k = static_cast<std::int64_t>(begin); k < end; ++k)
         f(static_cast<std::size_t>(k), scratch, found);
+      if (out) {
 #pragma omp critical(dhpd_rebuild_join)
-      out.insert(out.end(), found.begin(), found.end());
+        out->insert(out->end(), found.begin(), found.end());
+      }
     }
   }
 }
@@ -54,7 +56,7 @@ std::vector<std::int32_t> around_parents(const Simulation& sim, const SpatialGri
   const auto& p = sim.particles();
   std::vector<std::int32_t> out;
   each_in_chunks(
-      plan.parents.size(), cancelled, "searching around the parents", out,
+      plan.parents.size(), cancelled, "searching around the parents", &out,
       [&](std::size_t k, std::vector<std::int32_t>& found, std::vector<std::int32_t>& to) {
         const auto q = plan.parents[k];
         const auto u = static_cast<std::size_t>(q);
@@ -105,7 +107,7 @@ std::vector<std::int32_t> owners_to_rebuild(const Simulation& sim, const Spatial
   const double widest = widest_bond(sim);
   const auto& X = p.reference_position;
   each_in_chunks(
-      plan.child_slot.size(), cancelled, "finding the rows to rebuild", owners,
+      plan.child_slot.size(), cancelled, "finding the rows to rebuild", &owners,
       [&](std::size_t c, std::vector<std::int32_t>& found, std::vector<std::int32_t>& to) {
         const auto& xc = plan.child_position[c];
         grid.within(xc, widest, found);
@@ -141,11 +143,10 @@ std::vector<std::vector<NewBond>> decide_rows(const Simulation& sim, const Spati
     const auto c = child_of_slot[static_cast<std::size_t>(x)];
     return c < 0 ? x : plan.parents[static_cast<std::size_t>(plan.child_parent[c])];
   };
-  const auto n = static_cast<std::int64_t>(ev.owners.size());
   std::vector<std::vector<NewBond>> rows(ev.owners.size());
   std::vector<std::array<std::size_t, 2>> started(ev.owners.size(), {0, 0});
   const auto& X = p.reference_position;
-  auto decide = [&](std::int64_t r, std::vector<std::int32_t>& cand) {
+  auto decide = [&](std::size_t r, std::vector<std::int32_t>& cand, std::vector<std::int32_t>&) {
     const auto i = ev.owners[r];
     const auto u = static_cast<std::size_t>(i);
     grid.within(point_of(X, u), builder.search_radius(u), cand, i);
@@ -163,18 +164,7 @@ std::vector<std::vector<NewBond>> decide_rows(const Simulation& sim, const Spati
       started[r][1] += over ? 1 : 0;
     }
   };
-  constexpr std::int64_t kChunk = 256;
-  for (std::int64_t begin = 0; begin < n; begin += kChunk) {
-    if (cancelled && cancelled())
-      throw EventCancelled("refinement event cancelled while deciding the new rows");
-    const auto end = std::min(n, begin + kChunk);
-#pragma omp parallel if (end - begin >= 32)
-    {
-      std::vector<std::int32_t> cand;
-#pragma omp for schedule(dynamic, 4)
-      for (std::int64_t r = begin; r < end; ++r) decide(r, cand);
-    }
-  }
+  each_in_chunks(ev.owners.size(), cancelled, "deciding the new rows", nullptr, decide);
   for (const auto& s : started) out.started_broken += s[0], out.started_overstretched += s[1];
   return rows;
 }
