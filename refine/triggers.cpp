@@ -35,18 +35,52 @@ std::vector<double> critical_energy_density(const Simulation& sim) {
   return out;
 }
 
-std::vector<double> max_bond_stretch(const Simulation& sim) {
+namespace {
+
+/// Each row's largest (|y|/|ξ|)² over its intact own bonds (0 without one): squared lengths times
+/// 1/|ξ|², as the break test forms them, no root or division per bond. Each row is its own
+/// maximum: the same for any team.
+template <int Dim>
+void max_ratio2_rows(const Simulation& sim, std::vector<double>& out) {
   const auto& p = sim.particles();
   const auto& b = sim.bonds();
-  std::vector<double> out(p.size(), 0.0);
+  const double* const y[3] = {p.position[0].data(), p.position[1].data(), p.position[2].data()};
   const auto n = static_cast<std::int64_t>(p.size());
 #pragma omp parallel for schedule(static) if (n >= kParallelMinParticles)
-  for (std::int64_t i = 0; i < n; ++i)  // each row its own maximum: the same for any team
-    for (auto k = b.begin(i); k < b.end(i); ++k) {
+  for (std::int64_t i = 0; i < n; ++i) {
+    const auto row = static_cast<std::size_t>(i);
+    double largest = 0.0;
+    for (auto k = b.begin(row); k < b.end(row); ++k) {
       if (!b.own_intact(k)) continue;
       const auto j = static_cast<std::size_t>(b.other[k]);
-      out[i] = std::max(out[i], bond_law::stretch(bond_law::squared_length(p, i, j), b.length(k)));
+      const double l2 = bond_law::squared_length<Dim>(y, row, j);
+      largest = std::max(largest, bond_law::stretch_ratio2(l2, b.inverse_length(k)));
     }
+    out[row] = largest;
+  }
+}
+
+std::vector<double> max_ratio2(const Simulation& sim) {
+  std::vector<double> out(sim.particles().size(), 0.0);
+  switch (sim.particles().dim()) {
+    case 1:
+      max_ratio2_rows<1>(sim, out);
+      break;
+    case 2:
+      max_ratio2_rows<2>(sim, out);
+      break;
+    default:
+      max_ratio2_rows<3>(sim, out);
+      break;
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<double> max_bond_stretch(const Simulation& sim) {
+  auto out = max_ratio2(sim);
+  for (auto& r : out) r = r > 0.0 ? std::sqrt(r) - 1.0 : 0.0;
   return out;
 }
 
@@ -125,10 +159,15 @@ std::vector<std::uint8_t> triggered(const Simulation& sim, const Triggers& t) {
       if (crit[i] > 0.0 && w[i] >= *t.energy * crit[i]) out[i] = 1;
   }
   if (t.stretch) {
-    const auto s = max_bond_stretch(sim);
+    // s ≥ t·s0 compared on squared ratios: (|y|/|ξ|)² ≥ (1 + t·s0)².
+    const auto ratio2 = max_ratio2(sim);
     std::vector<std::uint8_t> over(n, 0);
     for (std::size_t i = 0; i < n; ++i)
-      over[i] = !out[i] && s[i] >= *t.stretch * sim.critical_stretch()[i] ? 1 : 0;
+      over[i] = !out[i] && ratio2[i] > 0.0 &&
+                        bond_law::reaches_critical_stretch(ratio2[i],
+                                                           *t.stretch * sim.critical_stretch()[i])
+                    ? 1
+                    : 0;
     if (t.near_crack)
       over = near_a_crack(sim, {*t.near_crack, t.near_precrack.value_or(*t.near_crack)},
                           std::move(over));
