@@ -25,6 +25,7 @@ Simulation::Simulation(SimulationSetup setup)
     if (corrects_interfaces())
       initial_interfaces_ = correct_level_interfaces(bonds_, p_, setup_.partial_volume, C_, {});
     refresh_rows(bonds_, bond_constants(), true);
+    build_state_model();
   }
   {
     auto t = timers_.scope(Phase::Search);  // set-up, as the bonds
@@ -54,8 +55,24 @@ Simulation::Simulation(SimulationSetup setup)
   for (std::size_t i = 0; i < p_.size(); ++i) max_horizon_ = std::max(max_horizon_, p_.horizon[i]);
 }
 
+void Simulation::build_state_model() {
+  if (setup_.family != ModelFamily::OrdinaryState) return;
+  state_.emplace(bonds_, p_,
+                 OrdinaryStateInputs{setup_.section, setup_.model, setup_.partial_volume,
+                                     setup_.influence, &setup_.materials});
+}
+
 double Simulation::estimate_critical_dt() {
   const double bound = smallest(particle_dt_);
+  if (state_) {
+    // The state-based stiffness by Lanczos (docs/theory.md §20.3): particle_dt_ holds the
+    // bond-based bound of the same E, a guide for the start vector, not a bound of this model.
+    if (!std::isfinite(bound)) return bound;
+    const auto apply = [&](const std::vector<double>& u, std::vector<double>& out) {
+      state_->stiffness_times(bonds_, p_, u, out);
+    };
+    return lanczos_stable_step(apply, p_, 80, 1e-4, &particle_dt_).dt;
+  }
   // Lanczos needs M⁻¹K symmetric in the mass inner product: the classical variable-horizon model's
   // ghost forces make it not, so that model keeps the bound (docs/theory.md §9).
   if (setup_.stable_step == StableStepEstimate::ParticleBound || !std::isfinite(bound) ||
@@ -133,7 +150,9 @@ void Simulation::compute_forces(bool with_fracture, std::vector<double>* row_ene
                                 const SideTask* side) {
   {
     auto t = timers_.scope(Phase::Forces);
-    if (with_fracture)
+    if (state_)
+      state_->forces(bonds_, p_);
+    else if (with_fracture)
       broken_ += force_and_break(bonds_, p_, bond_constants(), row_energy, &kernel_points_, side);
     else
       internal_force_density(bonds_, p_, nullptr, row_energy, &kernel_points_, side);
@@ -170,7 +189,7 @@ void Simulation::step(StepExtras extras) {
   const double body_work = levels_ ? multirate_step(extras, evaluated) : verlet_step(extras);
   finish_step(body_work);
   bond_updates_ += evaluated;
-  if (extras.strain_energy && !levels_) {
+  if (extras.strain_energy && !levels_ && !state_) {
     auto t = timers_.scope(Phase::Diagnostics);
     fused_energy_.strain = strain_energy_of_row_sums(fused_energy_.rows, p_);
     fused_energy_.step = steps_;
@@ -301,7 +320,9 @@ Energies Simulation::energies() {
   Energies e;
   for (int a = 0; a < 3; ++a) e.momentum[a] = sums.momentum[a];
   e.kinetic = sums.kinetic;
-  e.strain = strain_energy_from_step() ? fused_energy_.strain : strain_energy_total(bonds_, p_);
+  e.strain = state_                      ? state_->strain_energy(bonds_, p_)
+             : strain_energy_from_step() ? fused_energy_.strain
+                                         : strain_energy_total(bonds_, p_);
   e.external_work = external_work_;
   e.verlet_correction = levels_ ? multirate_correction() : sums.correction;
   return e;
@@ -352,6 +373,7 @@ Simulation::MemoryUse Simulation::memory_use() const {
     m.other += v->capacity() * sizeof(double);
   m.other += touched_.capacity();
   if (levels_) m.other += levels_->bytes();
+  if (state_) m.other += state_->bytes();
   return m;
 }
 

@@ -15,6 +15,7 @@
 #include "engine/physics/interface_consistency.hpp"
 #include "engine/physics/loads.hpp"
 #include "engine/physics/material_law.hpp"
+#include "engine/physics/ordinary_state.hpp"
 #include "engine/physics/stability_guard.hpp"
 #include "engine/physics/time_levels.hpp"
 #include "geometry/crack.hpp"
@@ -40,6 +41,10 @@ enum class StableStepEstimate {
 struct SimulationSetup {
   Section section;
   ForceModel model = ForceModel::DualHorizon;
+  /// Bond-based or ordinary state-based (docs/theory.md §20); the state-based family takes one
+  /// global step and no refinement (yet).
+  ModelFamily family = ModelFamily::Bond;
+  Influence influence = Influence::Constant;  ///< ω of the state-based family
   PartialVolume partial_volume = PartialVolume::None;
   double horizon_factor = 3.015;
   std::vector<Material> materials;
@@ -187,6 +192,8 @@ class Simulation {
   /// Upper bounds used by bond searches: of every horizon, and of the radius added to it.
   double max_horizon() const { return max_horizon_; }
   double bond_reach() const { return reach_; }
+  /// The ordinary state-based model (null for the bond-based family).
+  const OrdinaryState* ordinary_state() const { return state_ ? &*state_ : nullptr; }
   /// Whether level-interface factors are solved (dual-horizon with the correction on).
   bool corrects_interfaces() const;
   const ResolvedLoads& loads() const { return loads_; }
@@ -245,6 +252,8 @@ class Simulation {
   void renumber();
   void update_bond_constants();
   void update_bond_constants(const std::vector<std::int32_t>& slots);
+  /// The ordinary state-based constants of the current rows (family OrdinaryState only).
+  void build_state_model();
   /// Internal force densities plus body forces; with fracture, bonds break in the same pass.
   /// With `row_energy`, the pass also leaves each row's energy sum there (force kernels, Energy).
   void compute_forces(bool with_fracture = false, std::vector<double>* row_energy = nullptr,
@@ -287,6 +296,8 @@ class Simulation {
   BondRows bonds_;
   ResolvedLoads loads_;
   std::vector<double> C_, s0_;
+  /// The ordinary state-based model's constants and dilatation (family OrdinaryState only).
+  std::optional<OrdinaryState> state_;
   std::vector<double> particle_dt_;  ///< stable step of each particle's row (docs/theory.md §9)
   double reach_ = 0.0;               ///< upper bound on radii (exact) for bond searches
   double max_horizon_ = 0.0;         ///< upper bound on every horizon

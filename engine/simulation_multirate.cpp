@@ -17,7 +17,10 @@ namespace dhpd {
 bool Simulation::multirate_enabled() const {
   // The classical variable-horizon model is not conservative (ghost forces): not split.
   // Left to its default, levels are used where they pay (time_levels.hpp, automatic).
-  return setup_.multirate.value_or(true) && setup_.model != ForceModel::ClassicalVariable;
+  // The state-based family takes one global step: a pair's force depends on the dilatations of
+  // both ends, sums over whole horizons that mix levels (docs/theory.md §20.3).
+  return setup_.multirate.value_or(true) && setup_.model != ForceModel::ClassicalVariable &&
+         setup_.family == ModelFamily::Bond;
 }
 
 LevelChoice Simulation::choose_levels() const {

@@ -210,7 +210,8 @@ struct CheckpointAccess {
     s.fused_energy_ = {};
     // Damage follows from the flags (the stepper keeps it current between steps).
     if (s.setup_.effects.fracture) compute_damage(s.bonds_, s.p_, s.setup_.partial_volume);
-    s.plan_levels();  // derived: the levels, their plans and forces (docs/theory.md §19)
+    s.build_state_model();  // derived from the rebuilt rows
+    s.plan_levels();        // derived: the levels, their plans and forces (docs/theory.md §19)
   }
 
   template <class V>

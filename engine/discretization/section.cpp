@@ -19,6 +19,12 @@ std::string_view to_string(ForceModel m) {
       return "classical-variable";
   }
 }
+std::string_view to_string(ModelFamily f) {
+  return f == ModelFamily::Bond ? "bond" : "ordinary-state";
+}
+std::string_view to_string(Influence w) {
+  return w == Influence::Constant ? "constant" : "inverse-distance";
+}
 std::string_view to_string(PartialVolume p) {
   switch (p) {
     case PartialVolume::None:

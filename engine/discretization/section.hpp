@@ -9,11 +9,18 @@ enum class ForceModel {
   ConstantHorizon,    ///< classical BB-PD, one δ everywhere, micromodulus 2C(δ)
   ClassicalVariable,  ///< classical BB-PD with each particle's own δ_i and no dual: ghost forces
 };
+/// The force state of a bond (docs/theory.md §20): bond-based (a pair force from the bond's own
+/// stretch) or ordinary state-based (also the owner's dilatation; any Poisson's ratio).
+enum class ModelFamily { Bond, OrdinaryState };
+/// Influence function ω of the state-based models: 1, or δ_owner/|ξ| (the Madenci–Oterkus form's).
+enum class Influence { Constant, InverseDistance };
 /// β_ij rule of docs/theory.md §7: none, linear (CMAME 2017 eq. A.1), exact (App. A, ball overlap).
 enum class PartialVolume { None, Linear, Exact };
 enum class PlaneMode { Stress, Strain };
 
 std::string_view to_string(ForceModel m);
+std::string_view to_string(ModelFamily f);
+std::string_view to_string(Influence w);
 std::string_view to_string(PartialVolume p);
 std::string_view to_string(PlaneMode p);
 

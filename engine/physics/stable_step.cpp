@@ -139,8 +139,8 @@ void weigh_towards_stiffest(const std::vector<double>& particle_dt, std::vector<
   }
 }
 
-template <int Dim>
-PowerEstimate lanczos(const BondRows& il, const ParticleStore& p, int max_iterations,
+template <int Dim, class Apply>
+PowerEstimate lanczos(const Apply& apply, const ParticleStore& p, int max_iterations,
                       double tolerance, const std::vector<double>* particle_dt) {
   const std::size_t n = p.size();
   std::vector<double> v, previous(n * Dim, 0.0), w(n * Dim);
@@ -151,7 +151,7 @@ PowerEstimate lanczos(const BondRows& il, const ParticleStore& p, int max_iterat
   std::vector<double> alpha, beta;
   PowerEstimate e;
   for (e.iterations = 1; e.iterations <= max_iterations; ++e.iterations) {
-    apply_stiffness<Dim>(il, p, v, w);
+    apply(v, w);
     const double a = mass_dot<Dim>(p, w, v);
     const double b_prev = beta.empty() ? 0.0 : beta.back();
     const auto size = static_cast<std::int64_t>(w.size());
@@ -180,8 +180,21 @@ PowerEstimate lanczos(const BondRows& il, const ParticleStore& p, int max_iterat
 
 PowerEstimate lanczos_stable_step(const BondRows& il, const ParticleStore& p, int max_iterations,
                                   double tolerance, const std::vector<double>* particle_dt) {
-  return with_dim(
-      p.dim(), [&](auto d) { return lanczos<d()>(il, p, max_iterations, tolerance, particle_dt); });
+  return with_dim(p.dim(), [&](auto d) {
+    constexpr int Dim = d();
+    const auto apply = [&](const std::vector<double>& u, std::vector<double>& out) {
+      apply_stiffness<Dim>(il, p, u, out);
+    };
+    return lanczos<Dim>(apply, p, max_iterations, tolerance, particle_dt);
+  });
+}
+
+PowerEstimate lanczos_stable_step(const StiffnessOperator& apply, const ParticleStore& p,
+                                  int max_iterations, double tolerance,
+                                  const std::vector<double>* particle_dt) {
+  return with_dim(p.dim(), [&](auto d) {
+    return lanczos<d()>(apply, p, max_iterations, tolerance, particle_dt);
+  });
 }
 
 PowerEstimate largest_stable_step(const BondRows& il, const ParticleStore& p, int max_iterations,

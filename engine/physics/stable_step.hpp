@@ -2,6 +2,8 @@
 // a tight estimate beside the per-particle bound of critical_time_step.
 #pragma once
 #include <cstdint>
+#include <functional>
+#include <vector>
 
 #include "engine/discretization/particles.hpp"
 #include "engine/physics/interactions.hpp"
@@ -30,6 +32,16 @@ PowerEstimate largest_stable_step(const BondRows& il, const ParticleStore& p,
 /// 0.2 % of its 100-iteration value after 20 iterations (the top of a PD spectrum is a dense
 /// cluster: the last digits come slowly), and the default stops near 35.
 PowerEstimate lanczos_stable_step(const BondRows& il, const ParticleStore& p,
+                                  int max_iterations = 80, double tolerance = 1e-4,
+                                  const std::vector<double>* particle_dt = nullptr);
+
+/// M⁻¹ K u per unit volume for a displacement u (dim values per particle): a model's linearised
+/// stiffness (the ordinary state-based one, engine/physics/ordinary_state.hpp).
+using StiffnessOperator =
+    std::function<void(const std::vector<double>& u, std::vector<double>& out)>;
+
+/// lanczos_stable_step for any such operator (symmetric in the mass inner product).
+PowerEstimate lanczos_stable_step(const StiffnessOperator& apply, const ParticleStore& p,
                                   int max_iterations = 80, double tolerance = 1e-4,
                                   const std::vector<double>* particle_dt = nullptr);
 

@@ -112,7 +112,7 @@ geometry::PointSet body_points(const Scene& s) {
 
 bool consistent_interfaces(const Scene& s) {
   if (s.interfaces) return *s.interfaces;
-  return s.model == ForceModel::DualHorizon &&
+  return s.model == ForceModel::DualHorizon && s.family == ModelFamily::Bond &&
          std::all_of(s.body.begin(), s.body.end(),
                      [](const BodyPart& p) { return p.kind == PartKind::Lattice; });
 }
@@ -124,6 +124,8 @@ SimulationSetup build_setup(const Scene& s) {
   setup.section.thickness = s.thickness;
   setup.section.area = s.area;
   setup.model = s.model;
+  setup.family = s.family;
+  setup.influence = s.influence;
   setup.partial_volume = s.partial_volume;
   setup.interface_correction = consistent_interfaces(s);
   setup.horizon_factor = s.horizon_factor;

@@ -106,6 +106,8 @@ std::vector<std::string> apply_overrides(YAML::Node& root, const std::vector<Ove
 
 // Value checks (scene_validate.cpp); each reads the cursor's value and fails with its location.
 double positive_number(const Cursor& c);
+/// ν of a state-based material: in (−1, 0.5); refused in 1D (docs/scenes.md, materials).
+double state_poisson_ratio(const Cursor& c, int dim);
 double non_negative_number(const Cursor& c);
 std::int64_t positive_integer(const Cursor& c);
 double horizon_factor(const Cursor& c);

@@ -86,7 +86,8 @@ void emit_materials(YAML::Emitter& out, const Scene& s) {
     out << YAML::Key << "E" << YAML::Value << number_text(m.law.E);
     out << YAML::Key << "rho" << YAML::Value << number_text(m.law.rho);
     out << YAML::Key << "G0" << YAML::Value << number_text(m.law.G0);
-    out << YAML::Key << "nu" << YAML::Value << number_text(implied_poisson_ratio(section));
+    if (s.family == ModelFamily::Bond || s.dimension > 1)  // a 1D state-based bar takes E alone
+      out << YAML::Key << "nu" << YAML::Value << number_text(poisson_ratio(m.law, section));
     out << YAML::EndMap;
   }
   out << YAML::EndMap;
@@ -339,7 +340,15 @@ std::string resolved_yaml(const Scene& s) {
   emit_body(out, s);
   out << YAML::Key << "horizon" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key
       << "factor" << YAML::Value << number_text(s.horizon_factor) << YAML::EndMap;
-  out << YAML::Key << "model" << YAML::Value << std::string(to_string(s.model));
+  out << YAML::Key << "model" << YAML::Value;
+  if (s.family == ModelFamily::Bond) {
+    out << std::string(to_string(s.model));
+  } else {
+    out << YAML::Flow << YAML::BeginMap << YAML::Key << "family" << YAML::Value
+        << std::string(to_string(s.family)) << YAML::Key << "horizon" << YAML::Value
+        << std::string(to_string(s.model)) << YAML::Key << "influence" << YAML::Value
+        << std::string(to_string(s.influence)) << YAML::EndMap;
+  }
   out << YAML::Key << "partial_volume" << YAML::Value << std::string(to_string(s.partial_volume));
   out << YAML::Key << "interfaces" << YAML::Value
       << (consistent_interfaces(s) ? "consistent" : "paper");

@@ -148,6 +148,8 @@ struct Scene {
   std::vector<LocatedMaterialRegion> material_regions;
   double horizon_factor = 3.015;
   ForceModel model = ForceModel::DualHorizon;
+  ModelFamily family = ModelFamily::Bond;
+  Influence influence = Influence::Constant;
   PartialVolume partial_volume = PartialVolume::None;
   /// `interfaces`: consistent (true) or paper (false); absent: consistent_interfaces() decides.
   std::optional<bool> interfaces;

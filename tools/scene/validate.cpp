@@ -117,6 +117,16 @@ void check_poisson(const Cursor& at, double nu, const Section& section) {
   }
 }
 
+double state_poisson_ratio(const Cursor& at, int dim) {
+  if (dim == 1)
+    at.fail("a 1D bar has no Poisson effect: the state-based model takes E alone", "(omit nu)");
+  const double nu = at.number();
+  if (!(nu > -1.0 && nu < 0.5))
+    at.fail(fmt::format("Poisson's ratio must lie in (-1, 0.5), got {}", at.text()),
+            "-1 < nu < 0.5");
+  return nu;
+}
+
 void check_crack(const Cursor& at, const geometry::Crack& crack, int dim) {
   if (dim == 2) {
     if (crack.points[0] == crack.points[1]) at.fail("the two end points of the crack coincide");

@@ -137,7 +137,13 @@ NamedMaterial read_material(const std::string& name, const Cursor& c, const Scen
     c.fail("G0 (fracture energy, J/m^2) is required when effects.fracture is true");
   if (s.effects.fracture && m.law.G0 == 0.0)
     g0->fail("G0 must be > 0 when effects.fracture is true, got 0", "> 0");
-  if (const auto nu = map.get("nu")) detail::check_poisson(*nu, nu->number(), section_of(s));
+  if (const auto nu = map.get("nu")) {
+    if (s.family == ModelFamily::Bond) {
+      detail::check_poisson(*nu, nu->number(), section_of(s));
+    } else {
+      m.law.nu = detail::state_poisson_ratio(*nu, s.dimension);
+    }
+  }
   return m;
 }
 
@@ -150,17 +156,69 @@ std::vector<NamedMaterial> read_materials(const Cursor& c, const Scene& s) {
   return materials;
 }
 
+/// What the ordinary state-based family does not offer (yet): fracture, a per-particle stable-step
+/// bound, time levels (docs/theory.md §20.3).
+void check_state_family(const MapView& top, const Scene& s) {
+  if (s.family == ModelFamily::Bond) return;
+  const auto family = MapView(top.require("model"), {}).require("family");
+  if (s.effects.fracture)
+    family.fail(
+        "fracture is not available with the ordinary state-based family yet (effects."
+        "fracture is true)",
+        "bond, or effects.fracture: false");
+  const MapView time(top.require("time"), {});
+  if (const auto step = time.get("stable_step");
+      step && s.time.stable_step != StableStepEstimate::Lanczos)
+    step->fail(
+        "the per-particle bound is derived for bond-based PD; the state-based family takes "
+        "the Lanczos estimate of its own stiffness",
+        "lanczos");
+  if (const auto multirate = time.get("multirate"); multirate && *s.time.multirate)
+    multirate->fail(
+        "the state-based family takes one global step: a pair's force depends on "
+        "the dilatation of whole horizons",
+        "false");
+}
+
+/// `horizon` of `model` (or `model` itself as one word): how horizons of different sizes meet.
+ForceModel read_horizon_model(const Cursor& c) {
+  const std::vector<ForceModel> models{ForceModel::DualHorizon, ForceModel::ConstantHorizon,
+                                       ForceModel::ClassicalVariable};
+  std::vector<std::string> words;
+  for (const auto m : models) words.emplace_back(to_string(m));
+  return models[c.choice(words)];
+}
+
+/// `model`: one word (the bond-based family with that horizon rule) or
+/// {family, horizon, influence} (docs/scenes.md).
+void read_model(const MapView& top, Scene& s) {
+  const auto model = top.get("model");
+  if (!model) return;
+  if (!model->node().IsMap()) {
+    s.model = read_horizon_model(*model);
+    return;
+  }
+  const MapView map(*model, {"family", "horizon", "influence"});
+  if (const auto family = map.get("family"))
+    s.family = family->choice({std::string(to_string(ModelFamily::Bond)),
+                               std::string(to_string(ModelFamily::OrdinaryState))}) == 0
+                   ? ModelFamily::Bond
+                   : ModelFamily::OrdinaryState;
+  if (const auto horizon = map.get("horizon")) s.model = read_horizon_model(*horizon);
+  if (const auto influence = map.get("influence")) {
+    if (s.family == ModelFamily::Bond)
+      influence->fail("influence applies to the state-based family only", "family: ordinary-state");
+    s.influence = influence->choice({std::string(to_string(Influence::Constant)),
+                                     std::string(to_string(Influence::InverseDistance))}) == 0
+                      ? Influence::Constant
+                      : Influence::InverseDistance;
+  }
+}
+
 void read_discretisation(const MapView& top, Scene& s) {
   if (const auto horizon = top.get("horizon"))
     if (const auto factor = MapView(*horizon, {"factor"}).get("factor"))
       s.horizon_factor = detail::horizon_factor(*factor);
-  if (const auto model = top.get("model")) {
-    const std::vector<ForceModel> models{ForceModel::DualHorizon, ForceModel::ConstantHorizon,
-                                         ForceModel::ClassicalVariable};
-    std::vector<std::string> words;
-    for (const auto m : models) words.emplace_back(to_string(m));
-    s.model = models[model->choice(words)];
-  }
   if (const auto pv = top.get("partial_volume")) {
     const std::vector<PartialVolume> rules{PartialVolume::None, PartialVolume::Linear,
                                            PartialVolume::Exact};
@@ -170,6 +228,11 @@ void read_discretisation(const MapView& top, Scene& s) {
   }
   if (const auto interfaces = top.get("interfaces")) {
     s.interfaces = interfaces->choice({"consistent", "paper"}) == 0;
+    if (*s.interfaces && s.family != ModelFamily::Bond)
+      interfaces->fail(
+          "interfaces: consistent corrects the bond-based pair stiffness; the "
+          "state-based family has none to correct",
+          "paper (or model family bond)");
     if (*s.interfaces && s.model != ForceModel::DualHorizon)
       interfaces->fail(fmt::format("interfaces: consistent corrects dual-horizon level jumps; "
                                    "model {} has none to correct",
@@ -293,6 +356,7 @@ Scene read_scene(const Cursor& root, const std::string& file) {
   if (effects) effect_map.emplace(*effects, std::vector<std::string>{"fracture", "refinement"});
   if (effect_map)
     if (const auto fracture = effect_map->get("fracture")) s.effects.fracture = fracture->boolean();
+  read_model(top, s);
   s.materials = read_materials(top.require("materials"), s);
   s.body = detail::read_body(top.require("body"), s);
   read_discretisation(top, s);
@@ -301,6 +365,7 @@ Scene read_scene(const Cursor& root, const std::string& file) {
       s.refinement = detail::read_refinement(*refinement, s);
   read_regions_and_loads(top, s);
   s.time = read_time(top.require("time"));
+  check_state_family(top, s);
   if (const auto output = top.get("output")) {
     s.output = read_output(*output);
   } else {

@@ -54,6 +54,9 @@ void check_refinable(const Cursor& c, const Scene& s) {
         "refinement needs per-particle horizons; model constant-horizon uses one horizon for "
         "the whole body",
         "model dual-horizon or classical-variable");
+  if (s.family == ModelFamily::OrdinaryState)
+    c.fail("refinement is not available with the ordinary state-based family yet",
+           "model family bond, or refinement: false");
 }
 
 }  // namespace

@@ -1,0 +1,210 @@
+// Ordinary state-based DH-PD: constants, dilatation and force passes (docs/theory.md §20; IJNME
+// 2016 eq. 42).
+#include "engine/physics/ordinary_state.hpp"
+
+#include <cmath>
+
+#include "engine/base/parallel.hpp"
+#include "engine/physics/bond_loops.hpp"
+
+namespace dhpd {
+namespace {
+
+/// ω of the bond from `owner` at reference length |ξ|.
+double influence(Influence w, double owner_horizon, double length) {
+  return w == Influence::Constant ? 1.0 : owner_horizon / length;
+}
+
+/// Extension e = |y| − |ξ| and direction (y_j − y_i)/|y_j − y_i| in the current configuration.
+struct Deformed {
+  const double* y[3];
+  template <int Dim>
+  double at(std::size_t i, std::size_t j, double length, double dir[Dim]) const {
+    double l2 = 0.0;
+    for (int a = 0; a < Dim; ++a) {
+      dir[a] = y[a][j] - y[a][i];
+      l2 += dir[a] * dir[a];
+    }
+    const double l = std::sqrt(l2);
+    for (int a = 0; a < Dim; ++a) dir[a] /= l;
+    return l - length;
+  }
+};
+
+/// The same linearised about the reference configuration for a displacement u (Dim per
+/// particle): e = n·(u_j − u_i), direction n = ξ/|ξ|.
+struct Linearised {
+  const double* x[3];
+  const double* u;
+  template <int Dim>
+  double at(std::size_t i, std::size_t j, double length, double dir[Dim]) const {
+    double e = 0.0;
+    for (int a = 0; a < Dim; ++a) {
+      dir[a] = (x[a][j] - x[a][i]) / length;
+      e += dir[a] * (u[j * Dim + a] - u[i * Dim + a]);
+    }
+    return e;
+  }
+};
+
+/// f(k, |ξ|, e) for every intact own bond of row i.
+template <int Dim, class Kinematics, class F>
+void each_intact_own(const BondRows& rows, std::size_t i, const Kinematics& kin, F&& f) {
+  for (auto k = rows.begin(i); k < rows.end(i); ++k) {
+    if (!rows.own_intact(k)) continue;
+    const double length = rows.length(k);
+    double dir[Dim];
+    f(k, length, kin.template at<Dim>(i, static_cast<std::size_t>(rows.other[k]), length, dir));
+  }
+}
+
+template <class F>
+void each_particle(std::size_t count, F&& f) {
+  const auto n = static_cast<std::int64_t>(count);
+#pragma omp parallel for schedule(static) if (n >= kParallelMinParticles)
+  for (std::int64_t i = 0; i < n; ++i) f(static_cast<std::size_t>(i));
+}
+
+}  // namespace
+
+OrdinaryState::OrdinaryState(const BondRows& rows, const ParticleStore& p,
+                             const OrdinaryStateInputs& in)
+    : n_(in.section.dim), classical_(in.model == ForceModel::ClassicalVariable) {
+  const std::size_t count = p.size();
+  m_.assign(count, 0.0);
+  bulk_.assign(count, 0.0);
+  dilatation_coefficient_.assign(count, 0.0);
+  deviatoric_coefficient_.assign(count, 0.0);
+  theta_.assign(count, 0.0);
+  own_weight_.assign(rows.flags.size(), 0.0);
+  dual_weight_.assign(rows.flags.size(), 0.0);
+  each_particle(count, [&](std::size_t i) {
+    double m = 0.0;
+    for (auto k = rows.begin(i); k < rows.end(i); ++k) {
+      const auto j = static_cast<std::size_t>(rows.other[k]);
+      const double length = rows.length(k);
+      if (rows.has_own(k)) {
+        own_weight_[k] = influence(in.influence, p.horizon[i], length) *
+                         bond_weight(p, in.rule, i, j, length) * p.volume[j];
+        m += own_weight_[k] * length * length;
+        if (classical_)  // j's state on i's own bond, weighted by i's horizon
+          dual_weight_[k] = influence(in.influence, p.horizon[j], length) *
+                            bond_weight(p, in.rule, i, j, length) * p.volume[j];
+      }
+      if (!classical_ && rows.has_dual(k))
+        dual_weight_[k] = influence(in.influence, p.horizon[j], length) *
+                          bond_weight(p, in.rule, j, i, length) * p.volume[j];
+    }
+    m_[i] = m;
+    if (!(m > 0.0)) return;  // no own bond: t = 0 for this owner
+    const auto moduli =
+        state_moduli((*in.materials)[static_cast<std::size_t>(p.material[i])], in.section);
+    const double n = n_;
+    bulk_[i] = moduli.bulk;
+    dilatation_coefficient_[i] = (n * moduli.bulk - (n + 2.0) * moduli.shear) / m;
+    deviatoric_coefficient_[i] = n * (n + 2.0) * moduli.shear / m;
+  });
+}
+
+template <int Dim, class Kinematics>
+void OrdinaryState::dilatation_pass(const BondRows& rows, const ParticleStore& p,
+                                    const Kinematics& kin) {
+  each_particle(p.size(), [&](std::size_t i) {
+    double sum = 0.0;
+    each_intact_own<Dim>(rows, i, kin, [&](std::int64_t k, double length, double e) {
+      sum += own_weight_[k] * length * e;
+    });
+    theta_[i] = m_[i] > 0.0 ? n_ * sum / m_[i] : 0.0;
+  });
+}
+
+template <int Dim, class Kinematics>
+void OrdinaryState::force_pass(const BondRows& rows, const ParticleStore& p, const Kinematics& kin,
+                               double* const out[3], bool per_density) {
+  each_particle(p.size(), [&](std::size_t i) {
+    const double P_i = dilatation_coefficient_[i] * theta_[i], Q_i = deviatoric_coefficient_[i];
+    double f[Dim] = {};
+    for (auto k = rows.begin(i); k < rows.end(i); ++k) {
+      const bool own = rows.own_intact(k), dual = classical_ ? own : rows.dual_intact(k);
+      if (!own && !dual) continue;
+      const auto j = static_cast<std::size_t>(rows.other[k]);
+      const double length = rows.length(k);
+      double dir[Dim];
+      const double e = kin.template at<Dim>(i, j, length, dir);
+      double t = 0.0;
+      if (own) t += own_weight_[k] * (P_i * length + Q_i * e);
+      if (dual)
+        t += dual_weight_[k] *
+             (dilatation_coefficient_[j] * theta_[j] * length + deviatoric_coefficient_[j] * e);
+      for (int a = 0; a < Dim; ++a) f[a] += t * dir[a];
+    }
+    for (int a = 0; a < Dim; ++a) out[a][i] = per_density ? -f[a] / p.density[i] : f[a];
+  });
+}
+
+void OrdinaryState::forces(const BondRows& rows, ParticleStore& p) {
+  with_dim(p.dim(), [&](auto d) {
+    constexpr int Dim = d();
+    const Deformed kin{{p.position[0].data(), p.position[1].data(), p.position[2].data()}};
+    dilatation_pass<Dim>(rows, p, kin);
+    double* const out[3] = {p.force_density[0].data(), p.force_density[1].data(),
+                            p.force_density[2].data()};
+    force_pass<Dim>(rows, p, kin, out, false);
+    return 0;
+  });
+}
+
+void OrdinaryState::stiffness_times(const BondRows& rows, const ParticleStore& p,
+                                    const std::vector<double>& u, std::vector<double>& out) {
+  with_dim(p.dim(), [&](auto d) {
+    constexpr int Dim = d();
+    const auto& X = p.reference_position;
+    const Linearised kin{{X[0].data(), X[1].data(), X[2].data()}, u.data()};
+    dilatation_pass<Dim>(rows, p, kin);
+    // out is interleaved (Dim per particle): write axis a of particle i at i·Dim + a.
+    std::vector<double> axes[3];
+    for (int a = 0; a < Dim; ++a) axes[a].resize(p.size());
+    double* const target[3] = {axes[0].data(), axes[1].data(), axes[2].data()};
+    force_pass<Dim>(rows, p, kin, target, true);
+    out.resize(p.size() * Dim);
+    for (std::size_t i = 0; i < p.size(); ++i)
+      for (int a = 0; a < Dim; ++a) out[i * Dim + a] = axes[a][i];
+    return 0;
+  });
+}
+
+std::vector<double> OrdinaryState::energy_density(const BondRows& rows, const ParticleStore& p) {
+  std::vector<double> energy(p.size(), 0.0);
+  with_dim(p.dim(), [&](auto d) {
+    constexpr int Dim = d();
+    const Deformed kin{{p.position[0].data(), p.position[1].data(), p.position[2].data()}};
+    dilatation_pass<Dim>(rows, p, kin);
+    each_particle(p.size(), [&](std::size_t i) {
+      double deviatoric = 0.0;
+      each_intact_own<Dim>(rows, i, kin, [&](std::int64_t k, double length, double e) {
+        const double ed = e - theta_[i] * length / n_;
+        deviatoric += own_weight_[k] * ed * ed;
+      });
+      energy[i] =
+          0.5 * bulk_[i] * theta_[i] * theta_[i] + 0.5 * deviatoric_coefficient_[i] * deviatoric;
+    });
+    return 0;
+  });
+  return energy;
+}
+
+double OrdinaryState::strain_energy(const BondRows& rows, const ParticleStore& p) {
+  auto energy = energy_density(rows, p);
+  for (std::size_t i = 0; i < energy.size(); ++i) energy[i] *= p.volume[i];
+  return ordered_sum(energy);
+}
+
+std::size_t OrdinaryState::bytes() const {
+  std::size_t b = 0;
+  for (const auto* v : {&m_, &bulk_, &dilatation_coefficient_, &deviatoric_coefficient_, &theta_,
+                        &own_weight_, &dual_weight_})
+    b += v->capacity() * sizeof(double);
+  return b;
+}
+
+}  // namespace dhpd

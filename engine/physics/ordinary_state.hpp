@@ -1,0 +1,78 @@
+// Ordinary state-based dual-horizon peridynamics (docs/theory.md §20; IJNME 2016 eq. 42, the
+// linear peridynamic solid of Silling et al. 2007 in n = 1, 2, 3 dimensions): the force state of
+// bond i→j uses the owner's weighted volume m_i, dilatation θ_i, κ_i and G_i; it acts on i and,
+// reversed, on j (the dual horizon), so every pair gets equal and opposite impulses.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "engine/discretization/bonds.hpp"
+#include "engine/discretization/particles.hpp"
+#include "engine/discretization/section.hpp"
+#include "engine/physics/material_law.hpp"
+
+namespace dhpd {
+
+/// What the state-based constants are built from.
+struct OrdinaryStateInputs {
+  Section section;
+  ForceModel model = ForceModel::DualHorizon;
+  PartialVolume rule = PartialVolume::None;
+  Influence influence = Influence::Constant;
+  const std::vector<Material>* materials = nullptr;
+};
+
+/// The constants of every particle and row entry, the dilatation of the last pass, and the
+/// passes themselves. Per particle (docs/theory.md §20.1):
+///   m_i = Σ_{own bonds} ω β V_j |ξ|²                      (all own bonds, broken ones too)
+///   θ_i = (n/m_i) Σ_{intact own bonds} ω β V_j |ξ| e       e = |y| − |ξ|
+///   t_ij = ω (P_i |ξ| + Q_i e),  P_i = (n κ_i − (n+2) G_i) θ_i / m_i,  Q_i = n (n+2) G_i / m_i
+/// (eq. 42 with e^d = e − θ|ξ|/n expanded), and the force density on i
+///   f_i = Σ_entries [μ_ij ω β_ij V_j t_i + μ_ji ω β_ji V_j t_j] (y_j − y_i)/|y_j − y_i|.
+/// The classical variable-horizon model sums over H_i only, with j's state in place of the dual
+/// bond (ω_ji β_ij V_j): ghost forces where horizons differ.
+class OrdinaryState {
+ public:
+  OrdinaryState() = default;
+  /// Builds every constant for the rows as they are (all bonds intact or not: m counts both).
+  OrdinaryState(const BondRows& rows, const ParticleStore& p, const OrdinaryStateInputs& in);
+
+  /// θ of every particle from the current positions, then the force density of every particle
+  /// (overwritten), row by row in the gather form: the same bits for any thread count.
+  void forces(const BondRows& rows, ParticleStore& p);
+  /// The linearised forces of displacement u (dim values per particle) about the reference
+  /// configuration, divided by each particle's density and negated: M⁻¹ K u per unit volume, the
+  /// operator whose largest eigenvalue bounds the stable step (docs/theory.md §9, §20.3).
+  void stiffness_times(const BondRows& rows, const ParticleStore& p, const std::vector<double>& u,
+                       std::vector<double>& out);
+  /// W_i = κ_i θ_i²/2 + (Q_i/2) Σ_{intact own} ω β V_j (e − θ_i |ξ|/n)² of every particle, from
+  /// the current positions (θ recomputed).
+  std::vector<double> energy_density(const BondRows& rows, const ParticleStore& p);
+  /// Σ_i V_i W_i, summed in fixed blocks (the same bits for any thread count).
+  double strain_energy(const BondRows& rows, const ParticleStore& p);
+  /// The dilatation of the last pass.
+  const std::vector<double>& dilatation() const { return theta_; }
+  /// m_i of every particle.
+  const std::vector<double>& weighted_volume() const { return m_; }
+  std::size_t bytes() const;
+
+ private:
+  template <int Dim, class Kinematics>
+  void dilatation_pass(const BondRows& rows, const ParticleStore& p, const Kinematics& kin);
+  template <int Dim, class Kinematics>
+  void force_pass(const BondRows& rows, const ParticleStore& p, const Kinematics& kin,
+                  double* const out[3], bool per_density);
+
+  int n_ = 3;
+  bool classical_ = false;    ///< classical variable horizon: no dual bonds, ghost forces
+  std::vector<double> m_;     ///< weighted volume
+  std::vector<double> bulk_;  ///< κ_i
+  std::vector<double> dilatation_coefficient_;  ///< (n κ_i − (n+2) G_i) / m_i
+  std::vector<double> deviatoric_coefficient_;  ///< Q_i = n (n+2) G_i / m_i
+  std::vector<double> theta_;
+  /// Per row entry: ω β V_other of the own bond, and of the bond the other particle owns on this
+  /// one (ω_ji β_ji V_j; classical variable horizon: ω_ji β_ij V_j, j's state on i's bond).
+  std::vector<double> own_weight_, dual_weight_;
+};
+
+}  // namespace dhpd

