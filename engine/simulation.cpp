@@ -67,9 +67,18 @@ double Simulation::estimate_critical_dt() {
   if (state_) {
     // The state-based stiffness by Lanczos (docs/theory.md §20.3): particle_dt_ holds the
     // bond-based bound of the same E, a guide for the start vector, not a bound of this model.
+    // The classical variable-horizon model's operator is not symmetric (ghost forces): its step
+    // is that of the dual-horizon model on the same particles, which it equals where horizons
+    // agree.
     if (!std::isfinite(bound)) return bound;
+    std::optional<OrdinaryState> dual;
+    if (setup_.model == ForceModel::ClassicalVariable)
+      dual.emplace(bonds_, p_,
+                   OrdinaryStateInputs{setup_.section, ForceModel::DualHorizon,
+                                       setup_.partial_volume, setup_.influence, &setup_.materials});
+    auto& model = dual ? *dual : *state_;
     const auto apply = [&](const std::vector<double>& u, std::vector<double>& out) {
-      state_->stiffness_times(bonds_, p_, u, out);
+      model.stiffness_times(bonds_, p_, u, out);
     };
     return lanczos_stable_step(apply, p_, 80, 1e-4, &particle_dt_).dt;
   }

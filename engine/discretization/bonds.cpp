@@ -20,7 +20,10 @@ double partial_volume_factor(PartialVolume rule, int dim, double distance, doubl
                              double r_j) {
   if (rule == PartialVolume::Exact)
     return geometry::partial_volume_fraction(dim, distance, horizon, r_j);
-  if (distance > horizon) return 0.0;
+  // A lattice neighbour at exactly δ (δ = 3Δx, as the papers write it) is inside: the distance
+  // computed from positions can land an ulp above δ, which would drop a whole shell of bonds
+  // (a 1D bar at δ = 3Δx lost a third of its stiffness, docs/theory.md §7).
+  if (distance > horizon * (1.0 + kHorizonTieTolerance)) return 0.0;
   if (rule == PartialVolume::None) return 1.0;
   if (distance <= horizon - r_j) return 1.0;
   return (horizon + r_j - distance) / (2.0 * r_j);

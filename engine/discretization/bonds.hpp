@@ -81,6 +81,10 @@ void for_each_own_bond(const BondRows& b, std::size_t i, F&& f) {
     if (b.flags[k] & kOwn) f(k, static_cast<std::size_t>(b.other[k]));
 }
 
+/// Relative tolerance of the horizon test |ξ| ≤ δ (1 + tol) of the none and linear rules: a
+/// neighbour at δ up to round-off is inside.
+inline constexpr double kHorizonTieTolerance = 1e-10;
+
 /// Partial-volume factor β for a neighbour at distance `distance` with radius r_j (docs/theory.md
 /// §7): r_j = Δx_j/2 for linear, the equal-measure radius for exact; unused by none.
 double partial_volume_factor(PartialVolume rule, int dim, double distance, double horizon,

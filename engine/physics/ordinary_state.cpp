@@ -87,7 +87,9 @@ OrdinaryState::OrdinaryState(const BondRows& rows, const ParticleStore& p,
         own_weight_[k] = influence(in.influence, p.horizon[i], length) *
                          bond_weight(p, in.rule, i, j, length) * p.volume[j];
         m += own_weight_[k] * length * length;
-        if (classical_)  // j's state on i's own bond, weighted by i's horizon
+        // Classical: −T_j<x_i − x_j> integrated over H_i (i's quadrature), where j's state has
+        // that bond (i ∈ H_j); nothing where it has not (a ghost force).
+        if (classical_ && rows.has_dual(k))
           dual_weight_[k] = influence(in.influence, p.horizon[j], length) *
                             bond_weight(p, in.rule, i, j, length) * p.volume[j];
       }
@@ -125,7 +127,8 @@ void OrdinaryState::force_pass(const BondRows& rows, const ParticleStore& p, con
     const double P_i = dilatation_coefficient_[i] * theta_[i], Q_i = deviatoric_coefficient_[i];
     double f[Dim] = {};
     for (auto k = rows.begin(i); k < rows.end(i); ++k) {
-      const bool own = rows.own_intact(k), dual = classical_ ? own : rows.dual_intact(k);
+      const bool own = rows.own_intact(k);
+      const bool dual = classical_ ? own && rows.dual_intact(k) : rows.dual_intact(k);
       if (!own && !dual) continue;
       const auto j = static_cast<std::size_t>(rows.other[k]);
       const double length = rows.length(k);

@@ -29,8 +29,9 @@ struct OrdinaryStateInputs {
 ///   t_ij = ω (P_i |ξ| + Q_i e),  P_i = (n κ_i − (n+2) G_i) θ_i / m_i,  Q_i = n (n+2) G_i / m_i
 /// (eq. 42 with e^d = e − θ|ξ|/n expanded), and the force density on i
 ///   f_i = Σ_entries [μ_ij ω β_ij V_j t_i + μ_ji ω β_ji V_j t_j] (y_j − y_i)/|y_j − y_i|.
-/// The classical variable-horizon model sums over H_i only, with j's state in place of the dual
-/// bond (ω_ji β_ij V_j): ghost forces where horizons differ.
+/// The classical variable-horizon model (the original equation of motion with each particle's own
+/// δ) sums over H_i only: t_i, and −t_j where j's horizon holds i too (ω_ji β_ij V_j, i's
+/// quadrature); where it does not, nothing balances t_i: ghost forces where horizons differ.
 class OrdinaryState {
  public:
   OrdinaryState() = default;
@@ -71,7 +72,7 @@ class OrdinaryState {
   std::vector<double> deviatoric_coefficient_;  ///< Q_i = n (n+2) G_i / m_i
   std::vector<double> theta_;
   /// Per row entry: ω β V_other of the own bond, and of the bond the other particle owns on this
-  /// one (ω_ji β_ji V_j; classical variable horizon: ω_ji β_ij V_j, j's state on i's bond).
+  /// one (ω_ji β_ji V_j; classical variable horizon: ω_ji β_ij V_j where j's horizon holds i).
   std::vector<double> own_weight_, dual_weight_;
 };
 

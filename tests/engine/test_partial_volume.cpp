@@ -147,3 +147,37 @@ TEST(ExactPartialVolume, MomentumBalancesOnVaryingHorizons) {
 
 }  // namespace
 }  // namespace dhpd
+
+namespace dhpd {
+namespace {
+
+// δ = 3Δx exactly, as the papers write it: the neighbours at distance δ (up to round-off) are
+// inside, with β = ½ (linear) or 1 (none). Before the tie tolerance a 1D bar lost that shell.
+TEST(HorizonTie, NeighboursAtExactlyTheHorizonAreBonded) {
+  for (const int dim : {1, 2, 3})
+    for (const auto rule : {PartialVolume::None, PartialVolume::Linear}) {
+      Section s;
+      s.dim = dim;
+      const int cells = dim == 3 ? 9 : 13;
+      const auto p = test::lattice_store(dim, cells, 1e-3, 3.0, s);
+      const auto rows = build_bond_rows(p, rule, {});
+      // Lattice points with |k|² ≤ 9 around the centre particle, less itself.
+      int expected = 0;
+      for (int a = -3; a <= 3; ++a)
+        for (int b = dim > 1 ? -3 : 0; b <= (dim > 1 ? 3 : 0); ++b)
+          for (int c = dim > 2 ? -3 : 0; c <= (dim > 2 ? 3 : 0); ++c)
+            expected += (a * a + b * b + c * c <= 9 && (a || b || c)) ? 1 : 0;
+      std::size_t centre = 0;
+      double best = HUGE_VAL;
+      for (std::size_t i = 0; i < p.size(); ++i) {
+        double d = 0;
+        for (int a = 0; a < dim; ++a)
+          d += std::pow(p.reference_position[a][i] - 0.5 * cells * 1e-3, 2);
+        if (d < best) best = d, centre = i;
+      }
+      EXPECT_EQ(rows.own_count(centre), expected) << dim << "D " << to_string(rule);
+    }
+}
+
+}  // namespace
+}  // namespace dhpd

@@ -64,66 +64,9 @@ TEST_P(PowerStableStep, PowerIterationFindsTheLargestEigenvalue) {
 
 INSTANTIATE_TEST_SUITE_P(Dimensions, PowerStableStep, ::testing::Values(1, 2, 3));
 
-/// Whether `s` runs `steps` steps at a fixed dt without the guard stopping it (the load-time
-/// check of a fixed dt is the scene reader's: the engine runs any dt).
-bool stays_stable(SimulationSetup s, double dt, int steps) {
-  s.fixed_dt = dt;
-  Simulation sim(s);
-  try {
-    sim.run_steps(steps);
-    sim.check_stable(sim.energies());
-  } catch (const InstabilityError&) {
-    return false;
-  }
-  return true;
-}
-
-/// The stability limit of a fixed dt, by bisection between a stable and an unstable step: runs
-/// long enough that a mode 0.1 % past its limit grows from round-off to the guard's bound.
-double measured_limit(const SimulationSetup& s, double stable, double unstable) {
-  constexpr int kSteps = 1500;
-  EXPECT_TRUE(stays_stable(s, stable, kSteps));
-  EXPECT_FALSE(stays_stable(s, unstable, kSteps));
-  for (int k = 0; k < 9; ++k) {
-    const double mid = 0.5 * (stable + unstable);
-    (stays_stable(s, mid, kSteps) ? stable : unstable) = mid;
-  }
-  return 0.5 * (stable + unstable);
-}
-
-SimulationSetup bar_1d() {
-  SimulationSetup s;
-  s.section = {1, PlaneMode::Stress, 1, 1e-4};
-  s.materials = {{72e9, 2440, 0}};
-  s.partial_volume = PartialVolume::Linear;
-  s.points = geometry::fill_lattice({{geometry::Box{{0, 0, 0}, {0.1, 0, 0}}, 1e-3, 0}}, 1);
-  InitialCondition ic;
-  ic.region = geometry::Box{{0, 0, 0}, {0.1, 0, 0}};
-  ic.displacement = Vec3{2e-6, 0, 0};
-  ic.gaussian_width = 0.01;
-  ic.gaussian_center = {0.05, 0, 0};
-  s.initial_conditions = {ic};
-  return s;
-}
-
 SimulationSetup plane_strain_plate() {
   auto s = test::ringing_plate(false);
   s.section.plane = PlaneMode::Strain;
-  return s;
-}
-
-SimulationSetup block_3d() {
-  SimulationSetup s;
-  s.section = {3, PlaneMode::Stress, 1, 1};
-  s.materials = {{72e9, 2440, 0}};
-  s.partial_volume = PartialVolume::Linear;
-  s.points = geometry::fill_lattice({{geometry::Box{{0, 0, 0}, {8e-3, 6e-3, 5e-3}}, 1e-3, 0}}, 3);
-  InitialCondition ic;
-  ic.region = geometry::Box{{0, 0, 0}, {8e-3, 6e-3, 5e-3}};
-  ic.displacement = Vec3{2e-6, -1e-6, 1e-6};
-  ic.gaussian_width = 3e-3;
-  ic.gaussian_center = {4e-3, 3e-3, 2.5e-3};
-  s.initial_conditions = {ic};
   return s;
 }
 
@@ -145,7 +88,7 @@ TEST_P(StableStepLimit, TheEstimateIsWithinOnePercentOfTheMeasuredLimit) {
   auto bound_setup = s;
   bound_setup.stable_step = StableStepEstimate::ParticleBound;
   const double bound = Simulation(bound_setup).critical_dt();
-  const double limit = measured_limit(s, 0.8 * estimate, 1.2 * estimate);
+  const double limit = test::measured_limit(s, 0.8 * estimate, 1.2 * estimate);
   std::printf("%s: measured limit / Lanczos estimate %.4f, per-particle bound / limit %.3f\n",
               GetParam().name, limit / estimate, bound / limit);
   EXPECT_GE(limit / estimate, 0.99);
@@ -155,10 +98,10 @@ TEST_P(StableStepLimit, TheEstimateIsWithinOnePercentOfTheMeasuredLimit) {
 
 INSTANTIATE_TEST_SUITE_P(
     Bodies, StableStepLimit,
-    ::testing::Values(LimitCase{"bar_1d", bar_1d},
+    ::testing::Values(LimitCase{"bar_1d", [] { return test::pulsed_bar_1d(); }},
                       LimitCase{"plate_plane_stress", [] { return test::ringing_plate(false); }},
                       LimitCase{"plate_plane_strain", plane_strain_plate},
-                      LimitCase{"block_3d", block_3d},
+                      LimitCase{"block_3d", [] { return test::pulsed_block_3d(); }},
                       LimitCase{"graded_plate", [] { return test::ringing_plate(true); }}),
     [](const auto& info) { return std::string(info.param.name); });
 
