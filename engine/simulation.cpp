@@ -144,10 +144,17 @@ void Simulation::update_bond_constants() {
 void Simulation::update_bond_constants(const std::vector<std::int32_t>& slots) {
   C_.resize(p_.size());
   s0_.resize(p_.size());
+  if (setup_.family == ModelFamily::OrdinaryState && state_phi_.empty())
+    for (const auto& m : setup_.materials)
+      state_phi_.push_back(state_fracture_factor(m, setup_.section, setup_.influence));
   for (const auto i : slots) {
     const auto& mat = setup_.materials.at(static_cast<std::size_t>(p_.material[i]));
     C_[i] = dhpd::micromodulus(mat, setup_.section, p_.horizon[i]);
-    s0_[i] = mat.G0 > 0 ? dhpd::critical_stretch(mat, setup_.section, p_.horizon[i]) : HUGE_VAL;
+    s0_[i] = !(mat.G0 > 0) ? HUGE_VAL
+             : setup_.family == ModelFamily::OrdinaryState
+                 ? std::sqrt(mat.G0 /
+                             (state_phi_[static_cast<std::size_t>(p_.material[i])] * p_.horizon[i]))
+                 : dhpd::critical_stretch(mat, setup_.section, p_.horizon[i]);
   }
 }
 
@@ -159,9 +166,11 @@ void Simulation::compute_forces(bool with_fracture, std::vector<double>* row_ene
                                 const SideTask* side) {
   {
     auto t = timers_.scope(Phase::Forces);
-    if (state_)
+    if (state_) {
+      // Breaks first: the dilatation sums the bonds left (docs/theory.md §20.4).
+      if (with_fracture) broken_ += break_bonds(bonds_, p_, bond_constants());
       state_->forces(bonds_, p_);
-    else if (with_fracture)
+    } else if (with_fracture)
       broken_ += force_and_break(bonds_, p_, bond_constants(), row_energy, &kernel_points_, side);
     else
       internal_force_density(bonds_, p_, nullptr, row_energy, &kernel_points_, side);

@@ -296,6 +296,8 @@ class Simulation {
   BondRows bonds_;
   ResolvedLoads loads_;
   std::vector<double> C_, s0_;
+  /// The state-based fracture factor Φ of each material (s0 = sqrt(G0/(Φ δ)), §20.4).
+  std::vector<double> state_phi_;
   /// The ordinary state-based model's constants and dilatation (family OrdinaryState only).
   std::optional<OrdinaryState> state_;
   std::vector<double> particle_dt_;  ///< stable step of each particle's row (docs/theory.md §9)

@@ -185,6 +185,26 @@ std::int64_t force_and_break(BondRows& b, ParticleStore& p, const BondConstants&
   });
 }
 
+std::int64_t break_bonds(BondRows& b, ParticleStore& p, const BondConstants& c) {
+  const auto n = static_cast<std::int64_t>(p.size());
+  std::int64_t broken = 0;
+#pragma omp parallel for schedule(dynamic, 256) reduction(+ : broken) if (n >= kParallelMinParticles)
+  for (std::int64_t i = 0; i < n; ++i) {
+    const auto row = static_cast<std::size_t>(i);
+    int broke = 0;
+    for (auto k = b.begin(row); k < b.end(row); ++k) {
+      if (!(b.flags[k] & (kOwnIntact | kDualIntact))) continue;
+      const auto j = static_cast<std::size_t>(b.other[k]);
+      const double ratio2 =
+          bond_law::stretch_ratio2(bond_law::squared_length(p, row, j), b.inverse_length(k));
+      if (ratio2 >= b.break_ratio2[row]) broke += break_entry(b, row, k, ratio2, c);
+    }
+    if (broke) damage_of(b, p, c.rule, row);
+    broken += broke;
+  }
+  return broken;
+}
+
 std::int64_t segment_forces(BondRows& b, ParticleStore& p, const BondConstants* c,
                             const RowSegments& seg, const std::vector<double>& points,
                             const SideTask* side) {

@@ -3,6 +3,7 @@
 #include "engine/physics/ordinary_state.hpp"
 
 #include <cmath>
+#include <numbers>
 
 #include "engine/base/parallel.hpp"
 #include "engine/physics/bond_loops.hpp"
@@ -25,9 +26,19 @@ struct Deformed {
       dir[a] = y[a][j] - y[a][i];
       l2 += dir[a] * dir[a];
     }
-    const double l = std::sqrt(l2);
-    for (int a = 0; a < Dim; ++a) dir[a] /= l;
+    const double l = std::sqrt(l2), inverse = 1.0 / l;
+    for (int a = 0; a < Dim; ++a) dir[a] *= inverse;
     return l - length;
+  }
+  /// e alone (the dilatation pass needs no direction).
+  template <int Dim>
+  double extension(std::size_t i, std::size_t j, double length) const {
+    double l2 = 0.0;
+    for (int a = 0; a < Dim; ++a) {
+      const double d = y[a][j] - y[a][i];
+      l2 += d * d;
+    }
+    return std::sqrt(l2) - length;
   }
 };
 
@@ -45,6 +56,11 @@ struct Linearised {
     }
     return e;
   }
+  template <int Dim>
+  double extension(std::size_t i, std::size_t j, double length) const {
+    double dir[Dim];
+    return at<Dim>(i, j, length, dir);
+  }
 };
 
 /// f(k, |ξ|, e) for every intact own bond of row i.
@@ -53,8 +69,7 @@ void each_intact_own(const BondRows& rows, std::size_t i, const Kinematics& kin,
   for (auto k = rows.begin(i); k < rows.end(i); ++k) {
     if (!rows.own_intact(k)) continue;
     const double length = rows.length(k);
-    double dir[Dim];
-    f(k, length, kin.template at<Dim>(i, static_cast<std::size_t>(rows.other[k]), length, dir));
+    f(k, length, kin.template extension<Dim>(i, static_cast<std::size_t>(rows.other[k]), length));
   }
 }
 
@@ -65,7 +80,42 @@ void each_particle(std::size_t count, F&& f) {
   for (std::int64_t i = 0; i < n; ++i) f(static_cast<std::size_t>(i));
 }
 
+/// ∫_a^b f by Simpson's rule on `intervals` (even) intervals.
+template <class F>
+double simpson(F&& f, double a, double b, int intervals) {
+  const double h = (b - a) / intervals;
+  double sum = f(a) + f(b);
+  for (int k = 1; k < intervals; ++k) sum += (k % 2 ? 4.0 : 2.0) * f(a + k * h);
+  return sum * h / 3.0;
+}
+
+/// ∫ ω(r) r² dV over the bonds of a unit horizon that reach beyond a plane at distance z ≤ 1
+/// (all bonds for z = 0 counted on both sides, i.e. the whole m when `whole`), with the measure of
+/// the dimension: 1D points at ±r, 2D the arc where r sin φ > z, 3D the cap where r cos θ > z.
+double second_moment(int n, Influence w, double z, bool whole) {
+  const auto omega = [&](double r) { return w == Influence::Constant ? 1.0 : 1.0 / r; };
+  const auto shell = [&](double r) {
+    if (whole)
+      return n == 1 ? 2.0 : (n == 2 ? 2.0 * std::numbers::pi * r : 4.0 * std::numbers::pi * r * r);
+    if (r <= z) return 0.0;
+    if (n == 1) return 1.0;
+    if (n == 2) return (std::numbers::pi - 2.0 * std::asin(z / r)) * r;
+    return 2.0 * std::numbers::pi * (1.0 - z / r) * r * r;
+  };
+  return simpson([&](double r) { return r > 0.0 ? omega(r) * r * r * shell(r) : 0.0; },
+                 whole ? 0.0 : z, 1.0, 2000);
+}
+
 }  // namespace
+
+double state_fracture_factor(const Material& m, const Section& s, Influence w) {
+  const int n = s.dim;
+  const double whole = second_moment(n, w, 0.0, true);
+  // Every bond at s: t e = ω |ξ|² s² n² κ / m, so a bond's share ½ t e V_j of W_i is that
+  // fraction of its m; those crossing the plane hold μ(z) = m_crossing(z)/m of κ n² s²/2.
+  const auto crossing = [&](double z) { return second_moment(n, w, z, false) / whole; };
+  return n * n * state_moduli(m, s).bulk * simpson(crossing, 0.0, 1.0, 200);
+}
 
 OrdinaryState::OrdinaryState(const BondRows& rows, const ParticleStore& p,
                              const OrdinaryStateInputs& in)

@@ -13,6 +13,13 @@
 
 namespace dhpd {
 
+/// The state-based family's fracture factor Φ (docs/theory.md §20.4), s0 = sqrt(G0/(Φ δ)): G0 is
+/// the energy the bonds crossing a crack plane hold when every bond is at s0 (the argument of IJNME
+/// 2016 eq. 36), each bond's share of W_i being ½ t_ij e_ij V_j. At an isotropic stretch s that is
+/// Φ s² δ with Φ = n² κ ∫_0^1 μ(ζ) dζ, μ(ζ) the share of m in the bonds crossing a plane ζδ away;
+/// with ω = δ/|ξ| it is eq. 36's at bond-based PD's ν (1/3 plane stress, 1/4 in 3D and 1D).
+double state_fracture_factor(const Material& m, const Section& s, Influence w);
+
 /// What the state-based constants are built from.
 struct OrdinaryStateInputs {
   Section section;

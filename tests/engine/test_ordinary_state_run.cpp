@@ -2,7 +2,6 @@
 // the limit measured by bisection, energy conservation, restarts bit for bit, and the same
 // numbers with 1 and 2 threads.
 #include <gtest/gtest.h>
-#include <omp.h>
 
 #include <cstdio>
 
@@ -78,18 +77,7 @@ TEST(StateRun, RestartIsBitExactAndThreadsAgree) {
   const auto s = state_based(test::ringing_plate(true), 0.25);
   Simulation whole(s);
   whole.run_steps(200);
-  Simulation first(s);
-  first.run_steps(120);
-  const auto snapshot = save_simulation(first);
-  Simulation second(s);
-  load_simulation(snapshot, second, "test");
-  second.run_steps(80);
-  test::expect_identical(second, whole);
-  omp_set_num_threads(1);
-  Simulation one(s);
-  one.run_steps(200);
-  omp_set_num_threads(omp_get_num_procs());
-  test::expect_identical(one, whole);
+  test::expect_restart_and_one_thread_exact(s, whole, 120, 80);
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 // (N steps, snapshot through a checkpoint file's bytes, restore, M more = an uninterrupted N + M).
 #pragma once
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <cstdint>
 #include <cstring>
@@ -145,6 +146,24 @@ inline void expect_identical(Simulation& a, Simulation& b) {
 struct Events {
   int before = 0, resorts_before = 0, total = 0, resorts_total = 0;
 };
+
+/// `whole` (n + m steps from `setup`) against a run saved after n steps, loaded into a fresh
+/// simulation and stepped m more, and against the same n + m steps on one thread: bit for bit.
+inline void expect_restart_and_one_thread_exact(const SimulationSetup& setup, Simulation& whole,
+                                                std::int64_t n, std::int64_t m) {
+  Simulation first(setup);
+  first.run_steps(n);
+  const auto snapshot = save_simulation(first);
+  Simulation second(setup);
+  load_simulation(snapshot, second, "test");
+  second.run_steps(m);
+  expect_identical(second, whole);
+  omp_set_num_threads(1);
+  Simulation one(setup);
+  one.run_steps(n + m);
+  omp_set_num_threads(omp_get_num_procs());
+  expect_identical(one, whole);
+}
 
 /// N steps, a snapshot through a checkpoint file's bytes, restored into a fresh simulation built
 /// from the same setup, M more steps on both: the same state as an uninterrupted run.

@@ -55,9 +55,6 @@ TEST(StateFamilyScene, RefusesWithLocation) {
       {scene("{E: 1.0e9, rho: 1000}", "{family: bond, influence: constant}"),
        "bad.yaml:7: model.influence: influence applies to the state-based family only"},
       {scene("{E: 1.0e9, rho: 1000, G0: 1.0, nu: 0.3}", "{family: ordinary-state}",
-             "effects: {fracture: true}\n"),
-       "bad.yaml:7: model.family: fracture is not available with the ordinary state-based family"},
-      {scene("{E: 1.0e9, rho: 1000, G0: 1.0, nu: 0.3}", "{family: ordinary-state}",
              "effects: {refinement: true}\n"),
        "bad.yaml:9: effects.refinement: refinement is not available with the ordinary state-based "
        "family yet"},

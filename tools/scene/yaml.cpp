@@ -156,16 +156,10 @@ std::vector<NamedMaterial> read_materials(const Cursor& c, const Scene& s) {
   return materials;
 }
 
-/// What the ordinary state-based family does not offer (yet): fracture, a per-particle stable-step
-/// bound, time levels (docs/theory.md §20.3).
+/// What the ordinary state-based family does not offer (yet): a per-particle stable-step bound,
+/// time levels (docs/theory.md §20.3).
 void check_state_family(const MapView& top, const Scene& s) {
   if (s.family == ModelFamily::Bond) return;
-  const auto family = MapView(top.require("model"), {}).require("family");
-  if (s.effects.fracture)
-    family.fail(
-        "fracture is not available with the ordinary state-based family yet (effects."
-        "fracture is true)",
-        "bond, or effects.fracture: false");
   const MapView time(top.require("time"), {});
   if (const auto step = time.get("stable_step");
       step && s.time.stable_step != StableStepEstimate::Lanczos)
