@@ -64,39 +64,42 @@ void Simulation::build_state_model() {
 
 double Simulation::estimate_critical_dt() {
   const double bound = smallest(particle_dt_);
-  if (state_) {
-    // The state-based stiffness by Lanczos (docs/theory.md §20.3): particle_dt_ holds the
-    // bond-based bound of the same E, a guide for the start vector, not a bound of this model.
-    // The classical variable-horizon model's operator is not symmetric (ghost forces): its step
-    // is that of the dual-horizon model on the same particles, which it equals where horizons
-    // agree.
-    if (!std::isfinite(bound)) return bound;
-    std::optional<OrdinaryState> dual;
-    if (setup_.model == ForceModel::ClassicalVariable)
-      dual.emplace(bonds_, p_,
-                   OrdinaryStateInputs{setup_.section, ForceModel::DualHorizon,
-                                       setup_.partial_volume, setup_.influence, &setup_.materials});
-    auto& model = dual ? *dual : *state_;
-    const auto apply = [&](const std::vector<double>& u, std::vector<double>& out) {
-      model.stiffness_times(bonds_, p_, u, out);
-    };
-    return lanczos_stable_step(apply, p_, 80, 1e-4, &particle_dt_).dt;
-  }
   // Lanczos needs M⁻¹K symmetric in the mass inner product: the classical variable-horizon model's
   // ghost forces make it not, so that model keeps the bound (docs/theory.md §9).
-  if (setup_.stable_step == StableStepEstimate::ParticleBound || !std::isfinite(bound) ||
-      setup_.model == ForceModel::ClassicalVariable)
+  if (!state_ && (setup_.stable_step == StableStepEstimate::ParticleBound ||
+                  !std::isfinite(bound) || setup_.model == ForceModel::ClassicalVariable))
     return bound;
+  if (!std::isfinite(bound)) return bound;
   // After an edit that leaves the smallest per-particle bound where the last Lanczos estimate
   // found it (new particles like the stiffest ones already there), the top of the spectrum is
   // where it was: the estimate follows the bound's smallest value instead of iterating again
   // (tens of force passes per event); a stiffer particle, as at the first split to a new level,
   // runs Lanczos anew (docs/theory.md §9).
-  if (lanczos_bound_ > 0.0 && bound >= 0.99 * lanczos_bound_)
-    return std::max(bound, lanczos_dt_ * std::min(1.0, bound / lanczos_bound_));
-  lanczos_dt_ = lanczos_stable_step(bonds_, p_, 80, 1e-4, &particle_dt_).dt;
+  if (lanczos_bound_ > 0.0 && bound >= 0.99 * lanczos_bound_) {
+    const double followed = lanczos_dt_ * std::min(1.0, bound / lanczos_bound_);
+    return state_ ? followed : std::max(bound, followed);
+  }
+  lanczos_dt_ =
+      state_ ? state_lanczos_dt() : lanczos_stable_step(bonds_, p_, 80, 1e-4, &particle_dt_).dt;
   lanczos_bound_ = bound;
-  return std::max(bound, lanczos_dt_);
+  // particle_dt_ is the bond-based bound of the same E: a guide for the start vector and for when
+  // to iterate again, not a bound of the state-based model (docs/theory.md §20.3).
+  return state_ ? lanczos_dt_ : std::max(bound, lanczos_dt_);
+}
+
+double Simulation::state_lanczos_dt() const {
+  // The classical variable-horizon model's operator is not symmetric (ghost forces): its step is
+  // that of the dual-horizon model on the same particles, which it equals where horizons agree.
+  std::optional<OrdinaryState> dual;
+  if (setup_.model == ForceModel::ClassicalVariable)
+    dual.emplace(bonds_, p_,
+                 OrdinaryStateInputs{setup_.section, ForceModel::DualHorizon, setup_.partial_volume,
+                                     setup_.influence, &setup_.materials});
+  OrdinaryState model = dual ? std::move(*dual) : *state_;
+  const auto apply = [&](const std::vector<double>& u, std::vector<double>& out) {
+    model.stiffness_times(bonds_, p_, u, out);
+  };
+  return lanczos_stable_step(apply, p_, 80, 1e-4, &particle_dt_).dt;
 }
 
 void Simulation::init_particles() {

@@ -287,6 +287,8 @@ class Simulation {
   /// Δt_crit of the current rows by setup_.stable_step (particle_dt_ must be current); not below
   /// the per-particle bound. Keeps the last Lanczos estimate and the bound it was made at.
   double estimate_critical_dt();
+  /// The Lanczos step of the state-based model's linearised stiffness (docs/theory.md §20.3).
+  double state_lanczos_dt() const;
   /// Energies::verlet_correction of the current state (a pass over particles, not bonds).
   double verlet_correction() const;
 

@@ -25,6 +25,8 @@ bool Simulation::corrects_interfaces() const {
 Simulation::Discretisation Simulation::begin_edit(std::vector<std::int32_t> energy_rows,
                                                   const std::vector<std::int32_t>& moving) {
   if (edit_) throw EngineError("begin_edit: an edit is already open");
+  // The state-based family's level interfaces carry a force layer that no correction removes yet:
+  // Kalthoff–Winkler 2D adaptive cracked along them from the back face (docs/theory.md §20.2).
   if (state_)
     throw InputError("refinement is not available with the ordinary state-based family yet");
   if (setup_.model == ForceModel::ConstantHorizon)

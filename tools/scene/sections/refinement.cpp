@@ -55,8 +55,10 @@ void check_refinable(const Cursor& c, const Scene& s) {
         "the whole body",
         "model dual-horizon or classical-variable");
   if (s.family == ModelFamily::OrdinaryState)
-    c.fail("refinement is not available with the ordinary state-based family yet",
-           "model family bond, or refinement: false");
+    c.fail(
+        "refinement is not available with the ordinary state-based family yet: its level "
+        "interfaces carry a force layer that no correction removes (docs/theory.md §20.2)",
+        "model family bond, or refinement: false");
 }
 
 }  // namespace
