@@ -57,9 +57,10 @@ Simulation::Simulation(SimulationSetup setup)
 
 void Simulation::build_state_model() {
   if (setup_.family != ModelFamily::OrdinaryState) return;
-  state_.emplace(bonds_, p_,
-                 OrdinaryStateInputs{setup_.section, setup_.model, setup_.partial_volume,
-                                     setup_.influence, &setup_.materials});
+  state_.emplace(
+      bonds_, p_,
+      OrdinaryStateInputs{setup_.section, setup_.model, setup_.partial_volume, setup_.influence,
+                          &setup_.materials, setup_.surface_correction});
 }
 
 double Simulation::estimate_critical_dt() {
@@ -92,9 +93,10 @@ double Simulation::state_lanczos_dt() const {
   // that of the dual-horizon model on the same particles, which it equals where horizons agree.
   std::optional<OrdinaryState> dual;
   if (setup_.model == ForceModel::ClassicalVariable)
-    dual.emplace(bonds_, p_,
-                 OrdinaryStateInputs{setup_.section, ForceModel::DualHorizon, setup_.partial_volume,
-                                     setup_.influence, &setup_.materials});
+    dual.emplace(
+        bonds_, p_,
+        OrdinaryStateInputs{setup_.section, ForceModel::DualHorizon, setup_.partial_volume,
+                            setup_.influence, &setup_.materials, setup_.surface_correction});
   OrdinaryState model = dual ? std::move(*dual) : *state_;
   const auto apply = [&](const std::vector<double>& u, std::vector<double>& out) {
     model.stiffness_times(bonds_, p_, u, out);

@@ -45,6 +45,8 @@ struct SimulationSetup {
   /// global step and no refinement (yet).
   ModelFamily family = ModelFamily::Bond;
   Influence influence = Influence::Constant;  ///< ω of the state-based family
+  /// The state-based family's surface correction (docs/theory.md §20.5).
+  bool surface_correction = true;
   PartialVolume partial_volume = PartialVolume::None;
   double horizon_factor = 3.015;
   std::vector<Material> materials;

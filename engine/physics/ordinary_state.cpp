@@ -123,9 +123,10 @@ OrdinaryState::OrdinaryState(const BondRows& rows, const ParticleStore& p,
   const std::size_t count = p.size();
   m_.assign(count, 0.0);
   bulk_.assign(count, 0.0);
-  dilatation_coefficient_.assign(count, 0.0);
   deviatoric_coefficient_.assign(count, 0.0);
   theta_.assign(count, 0.0);
+  alpha_.assign(count, 0.0);
+  beta_.assign(count, 0.0);
   own_weight_.assign(rows.flags.size(), 0.0);
   dual_weight_.assign(rows.flags.size(), 0.0);
   each_particle(count, [&](std::size_t i) {
@@ -153,20 +154,37 @@ OrdinaryState::OrdinaryState(const BondRows& rows, const ParticleStore& p,
         state_moduli((*in.materials)[static_cast<std::size_t>(p.material[i])], in.section);
     const double n = n_;
     bulk_[i] = moduli.bulk;
-    dilatation_coefficient_[i] = (n * moduli.bulk - (n + 2.0) * moduli.shear) / m;
     deviatoric_coefficient_[i] = n * (n + 2.0) * moduli.shear / m;
   });
+  if (in.surface_correction) {
+    factors_ = surface_factors(rows, p, in, m_, own_weight_);
+  } else {
+    for (auto* v : {&factors_.own_dilatation, &factors_.own_deviatoric, &factors_.dual_dilatation,
+                    &factors_.dual_deviatoric})
+      v->assign(rows.flags.size(), 1.0);
+  }
 }
 
 template <int Dim, class Kinematics>
 void OrdinaryState::dilatation_pass(const BondRows& rows, const ParticleStore& p,
                                     const Kinematics& kin) {
   each_particle(p.size(), [&](std::size_t i) {
-    double sum = 0.0;
+    // θ = (n/m) Σ h w |ξ| e;  S = Σ g w e^d |ξ| = Σ g w e |ξ| − (θ/n) Σ g w |ξ|² (§20.5).
+    double theta = 0.0, extension = 0.0, moment = 0.0;
     each_intact_own<Dim>(rows, i, kin, [&](std::int64_t k, double length, double e) {
-      sum += own_weight_[k] * length * e;
+      const double w = own_weight_[k] * length;
+      theta += factors_.own_dilatation[k] * w * e;
+      extension += factors_.own_deviatoric[k] * w * e;
+      moment += factors_.own_deviatoric[k] * w * length;
     });
-    theta_[i] = m_[i] > 0.0 ? n_ * sum / m_[i] : 0.0;
+    if (!(m_[i] > 0.0)) {
+      theta_[i] = alpha_[i] = beta_[i] = 0.0;
+      return;
+    }
+    theta_[i] = n_ * theta / m_[i];
+    const double S = extension - theta_[i] * moment / n_, Q = deviatoric_coefficient_[i];
+    alpha_[i] = n_ / m_[i] * (bulk_[i] * theta_[i] - Q * S / n_);
+    beta_[i] = Q * theta_[i] / n_;
   });
 }
 
@@ -174,7 +192,6 @@ template <int Dim, class Kinematics>
 void OrdinaryState::force_pass(const BondRows& rows, const ParticleStore& p, const Kinematics& kin,
                                double* const out[3], bool per_density) {
   each_particle(p.size(), [&](std::size_t i) {
-    const double P_i = dilatation_coefficient_[i] * theta_[i], Q_i = deviatoric_coefficient_[i];
     double f[Dim] = {};
     for (auto k = rows.begin(i); k < rows.end(i); ++k) {
       const bool own = rows.own_intact(k);
@@ -184,11 +201,15 @@ void OrdinaryState::force_pass(const BondRows& rows, const ParticleStore& p, con
       const double length = rows.length(k);
       double dir[Dim];
       const double e = kin.template at<Dim>(i, j, length, dir);
+      // t = w [|ξ| (h α − g β) + g Q e]  (20.7), the owner's α, β, Q and factors along the bond.
+      const auto t_of = [&](std::size_t o, double h, double g) {
+        return length * (h * alpha_[o] - g * beta_[o]) + g * deviatoric_coefficient_[o] * e;
+      };
       double t = 0.0;
-      if (own) t += own_weight_[k] * (P_i * length + Q_i * e);
+      if (own)
+        t += own_weight_[k] * t_of(i, factors_.own_dilatation[k], factors_.own_deviatoric[k]);
       if (dual)
-        t += dual_weight_[k] *
-             (dilatation_coefficient_[j] * theta_[j] * length + deviatoric_coefficient_[j] * e);
+        t += dual_weight_[k] * t_of(j, factors_.dual_dilatation[k], factors_.dual_deviatoric[k]);
       for (int a = 0; a < Dim; ++a) f[a] += t * dir[a];
     }
     for (int a = 0; a < Dim; ++a) out[a][i] = per_density ? -f[a] / p.density[i] : f[a];
@@ -236,7 +257,7 @@ std::vector<double> OrdinaryState::energy_density(const BondRows& rows, const Pa
       double deviatoric = 0.0;
       each_intact_own<Dim>(rows, i, kin, [&](std::int64_t k, double length, double e) {
         const double ed = e - theta_[i] * length / n_;
-        deviatoric += own_weight_[k] * ed * ed;
+        deviatoric += factors_.own_deviatoric[k] * own_weight_[k] * ed * ed;
       });
       energy[i] =
           0.5 * bulk_[i] * theta_[i] * theta_[i] + 0.5 * deviatoric_coefficient_[i] * deviatoric;
@@ -254,8 +275,10 @@ double OrdinaryState::strain_energy(const BondRows& rows, const ParticleStore& p
 
 std::size_t OrdinaryState::bytes() const {
   std::size_t b = 0;
-  for (const auto* v : {&m_, &bulk_, &dilatation_coefficient_, &deviatoric_coefficient_, &theta_,
-                        &own_weight_, &dual_weight_})
+  for (const auto* v :
+       {&m_, &bulk_, &deviatoric_coefficient_, &theta_, &alpha_, &beta_, &own_weight_,
+        &dual_weight_, &factors_.own_dilatation, &factors_.own_deviatoric,
+        &factors_.dual_dilatation, &factors_.dual_deviatoric})
     b += v->capacity() * sizeof(double);
   return b;
 }

@@ -27,7 +27,23 @@ struct OrdinaryStateInputs {
   PartialVolume rule = PartialVolume::None;
   Influence influence = Influence::Constant;
   const std::vector<Material>* materials = nullptr;
+  /// Direction-dependent factors on each bond's dilatation and deviatoric terms from uniaxial
+  /// strains (docs/theory.md §20.5); off: every factor 1.
+  bool surface_correction = true;
 };
+
+/// Per row entry: the owner's factors h (dilatation) and g (deviatoric) along the bond, for the
+/// entry's own bond and for the bond the other particle owns on this one (docs/theory.md §20.5).
+struct SurfaceFactors {
+  std::vector<double> own_dilatation, own_deviatoric, dual_dilatation, dual_deviatoric;
+};
+
+/// Each particle's factors under a uniaxial strain along each axis (the continuum's θ and
+/// deviatoric energy over its own), read along a bond as the ellipse (ellipsoid) through them.
+/// m and the own weights as OrdinaryState builds them.
+SurfaceFactors surface_factors(const BondRows& rows, const ParticleStore& p,
+                               const OrdinaryStateInputs& in, const std::vector<double>& m,
+                               const std::vector<double>& own_weight);
 
 /// The constants of every particle and row entry, the dilatation of the last pass, and the
 /// passes themselves. Per particle (docs/theory.md §20.1):
@@ -75,9 +91,12 @@ class OrdinaryState {
   bool classical_ = false;    ///< classical variable horizon: no dual bonds, ghost forces
   std::vector<double> m_;     ///< weighted volume
   std::vector<double> bulk_;  ///< κ_i
-  std::vector<double> dilatation_coefficient_;  ///< (n κ_i − (n+2) G_i) / m_i
   std::vector<double> deviatoric_coefficient_;  ///< Q_i = n (n+2) G_i / m_i
   std::vector<double> theta_;
+  /// Per particle of the last pass (20.7): α = (n/m)(κθ − Q S/n), β = Q θ/n.
+  std::vector<double> alpha_, beta_;
+  /// Per row entry: the surface factors (1 without the correction).
+  SurfaceFactors factors_;
   /// Per row entry: ω β V_other of the own bond, and of the bond the other particle owns on this
   /// one (ω_ji β_ji V_j; classical variable horizon: ω_ji β_ij V_j where j's horizon holds i).
   std::vector<double> own_weight_, dual_weight_;

@@ -32,7 +32,8 @@ TEST(StateFracture, FactorIsTheEnergyTheCrossingBondsHold) {
           test::set_displacement(p, a, i, stretch * (p.reference_position[a][i] - 0.5 * L));
       const std::vector<Material> mats{{2e9, 1000.0, 1.0, dim == 1 ? std::nan("") : 0.25}};
       const auto rows = build_bond_rows(p, PartialVolume::Linear, {});
-      OrdinaryState model(rows, p, {s, ForceModel::DualHorizon, PartialVolume::Linear, w, &mats});
+      OrdinaryState model(rows, p,
+                          {s, ForceModel::DualHorizon, PartialVolume::Linear, w, &mats, false});
       model.forces(rows, p);  // θ of the stretched state
       const auto moduli = state_moduli(mats[0], s);
       const int n = dim;

@@ -79,7 +79,7 @@ TEST(OrdinaryStateReference, GatherEqualsBruteForceScatter) {
                                   5 + dim);
       const std::vector<Material> mats{{3e9, 1200.0, 0.0, dim == 1 ? std::nan("") : 0.3}};
       const auto rows = build_bond_rows(p, kRule, {});
-      OrdinaryState model(rows, p, {s, ForceModel::DualHorizon, kRule, w, &mats});
+      OrdinaryState model(rows, p, {s, ForceModel::DualHorizon, kRule, w, &mats, false});
       model.forces(rows, p);
       const auto ref = scatter_forces(p, mats[0], s, w);
       double err = 0.0, scale = 0.0;
@@ -102,8 +102,9 @@ TEST(OrdinaryStateReference, ForceIsTheEnergysGradient) {
     auto p = test::random_cloud(dim, 200, dim == 3 ? 0.05 : 0.025, 5.0, 3.015, 21);
     const std::vector<Material> mats{{3e9, 1200.0, 0.0, 0.2}};
     const auto rows = build_bond_rows(p, kRule, {});
-    OrdinaryState model(rows, p,
-                        {s, ForceModel::DualHorizon, kRule, Influence::InverseDistance, &mats});
+    // With the surface correction (on by default): its factors keep the model conservative.
+    OrdinaryState model(
+        rows, p, {s, ForceModel::DualHorizon, kRule, Influence::InverseDistance, &mats, true});
     model.forces(rows, p);
     const auto f = p.force_density;
     double worst = 0.0;
@@ -191,7 +192,7 @@ TEST(OrdinaryStateReference, MadenciOterkusFormAndOursGiveNaviersForce) {
   double worst[4] = {0, 0, 0, 0};
   for (const auto w : {Influence::Constant, Influence::InverseDistance}) {
     auto q = p;
-    OrdinaryState model(rows, q, {s, ForceModel::DualHorizon, kRule, w, &mats});
+    OrdinaryState model(rows, q, {s, ForceModel::DualHorizon, kRule, w, &mats, false});
     model.forces(rows, q);
     for (std::size_t i = 0; i < q.size(); ++i) {
       bool inside = true;

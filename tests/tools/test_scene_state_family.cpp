@@ -34,6 +34,11 @@ TEST(StateFamilyScene, AcceptsFamilyHorizonInfluenceAndPoissonsRatio) {
   EXPECT_EQ(s.model, ForceModel::ClassicalVariable);
   EXPECT_EQ(s.influence, Influence::InverseDistance);
   EXPECT_DOUBLE_EQ(s.materials[0].law.nu, 0.35);
+  EXPECT_TRUE(s.surface_correction);
+  const auto off = parse_scene(
+      scene("{E: 1.0e9, rho: 1000}", "{family: ordinary-state, surface_correction: false}"),
+      "good.yaml");
+  EXPECT_FALSE(off.surface_correction);
   const auto word = parse_scene(scene("{E: 1.0e9, rho: 1000}", "constant-horizon"), "good.yaml");
   EXPECT_EQ(word.family, ModelFamily::Bond);
   EXPECT_TRUE(std::isnan(word.materials[0].law.nu));
@@ -52,6 +57,9 @@ TEST(StateFamilyScene, RefusesWithLocation) {
        "bad.yaml:4: materials.g.nu: bond-based peridynamics fixes nu = 0.333333 in 2D plane "
        "stress, got 0.3"},
       {scene("{E: 1.0e9, rho: 1000}", "{family: state}"), "bad.yaml:7: model.family: unknown"},
+      {scene("{E: 1.0e9, rho: 1000}", "{family: bond, surface_correction: true}"),
+       "bad.yaml:7: model.surface_correction: surface_correction applies to the state-based family "
+       "only"},
       {scene("{E: 1.0e9, rho: 1000}", "{family: bond, influence: constant}"),
        "bad.yaml:7: model.influence: influence applies to the state-based family only"},
       {scene("{E: 1.0e9, rho: 1000, G0: 1.0, nu: 0.3}", "{family: ordinary-state}",

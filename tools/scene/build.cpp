@@ -126,6 +126,7 @@ SimulationSetup build_setup(const Scene& s) {
   setup.model = s.model;
   setup.family = s.family;
   setup.influence = s.influence;
+  setup.surface_correction = s.surface_correction;
   setup.partial_volume = s.partial_volume;
   setup.interface_correction = consistent_interfaces(s);
   setup.horizon_factor = s.horizon_factor;

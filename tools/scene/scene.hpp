@@ -150,6 +150,7 @@ struct Scene {
   ForceModel model = ForceModel::DualHorizon;
   ModelFamily family = ModelFamily::Bond;
   Influence influence = Influence::Constant;
+  bool surface_correction = true;  ///< state-based family only
   PartialVolume partial_volume = PartialVolume::None;
   /// `interfaces`: consistent (true) or paper (false); absent: consistent_interfaces() decides.
   std::optional<bool> interfaces;

@@ -192,13 +192,19 @@ void read_model(const MapView& top, Scene& s) {
     s.model = read_horizon_model(*model);
     return;
   }
-  const MapView map(*model, {"family", "horizon", "influence"});
+  const MapView map(*model, {"family", "horizon", "influence", "surface_correction"});
   if (const auto family = map.get("family"))
     s.family = family->choice({std::string(to_string(ModelFamily::Bond)),
                                std::string(to_string(ModelFamily::OrdinaryState))}) == 0
                    ? ModelFamily::Bond
                    : ModelFamily::OrdinaryState;
   if (const auto horizon = map.get("horizon")) s.model = read_horizon_model(*horizon);
+  if (const auto surface = map.get("surface_correction")) {
+    if (s.family == ModelFamily::Bond)
+      surface->fail("surface_correction applies to the state-based family only",
+                    "family: ordinary-state");
+    s.surface_correction = surface->boolean();
+  }
   if (const auto influence = map.get("influence")) {
     if (s.family == ModelFamily::Bond)
       influence->fail("influence applies to the state-based family only", "family: ordinary-state");
