@@ -156,12 +156,18 @@ OrdinaryState::OrdinaryState(const BondRows& rows, const ParticleStore& p,
     bulk_[i] = moduli.bulk;
     deviatoric_coefficient_[i] = n * (n + 2.0) * moduli.shear / m;
   });
-  if (in.surface_correction) {
-    factors_ = surface_factors(rows, p, in, m_, own_weight_);
-  } else {
-    for (auto* v : {&factors_.own_dilatation, &factors_.own_deviatoric, &factors_.dual_dilatation,
-                    &factors_.dual_deviatoric})
-      v->assign(rows.flags.size(), 1.0);
+  // The factors only ever multiply the weights: each entry keeps the four products w h, w g of
+  // its own bond and of the other's (SurfaceFactors; all 1 without the correction).
+  SurfaceFactors f;
+  if (in.surface_correction) f = surface_factors(rows, p, in, m_, own_weight_);
+  own_dilatation_.resize(rows.flags.size());
+  dual_dilatation_.resize(rows.flags.size());
+  for (std::size_t k = 0; k < rows.flags.size(); ++k) {
+    const bool corrected = in.surface_correction;
+    own_dilatation_[k] = own_weight_[k] * (corrected ? f.own_dilatation[k] : 1.0);
+    dual_dilatation_[k] = dual_weight_[k] * (corrected ? f.dual_dilatation[k] : 1.0);
+    own_weight_[k] *= corrected ? f.own_deviatoric[k] : 1.0;
+    dual_weight_[k] *= corrected ? f.dual_deviatoric[k] : 1.0;
   }
 }
 
@@ -172,10 +178,9 @@ void OrdinaryState::dilatation_pass(const BondRows& rows, const ParticleStore& p
     // θ = (n/m) Σ h w |ξ| e;  S = Σ g w e^d |ξ| = Σ g w e |ξ| − (θ/n) Σ g w |ξ|² (§20.5).
     double theta = 0.0, extension = 0.0, moment = 0.0;
     each_intact_own<Dim>(rows, i, kin, [&](std::int64_t k, double length, double e) {
-      const double w = own_weight_[k] * length;
-      theta += factors_.own_dilatation[k] * w * e;
-      extension += factors_.own_deviatoric[k] * w * e;
-      moment += factors_.own_deviatoric[k] * w * length;
+      theta += own_dilatation_[k] * length * e;
+      extension += own_weight_[k] * length * e;
+      moment += own_weight_[k] * length * length;
     });
     if (!(m_[i] > 0.0)) {
       theta_[i] = alpha_[i] = beta_[i] = 0.0;
@@ -201,15 +206,14 @@ void OrdinaryState::force_pass(const BondRows& rows, const ParticleStore& p, con
       const double length = rows.length(k);
       double dir[Dim];
       const double e = kin.template at<Dim>(i, j, length, dir);
-      // t = w [|ξ| (h α − g β) + g Q e]  (20.7), the owner's α, β, Q and factors along the bond.
-      const auto t_of = [&](std::size_t o, double h, double g) {
-        return length * (h * alpha_[o] - g * beta_[o]) + g * deviatoric_coefficient_[o] * e;
-      };
+      // t w = |ξ| (w h α − w g β) + w g Q e  (20.7), the owner's α, β, Q and factors.
       double t = 0.0;
       if (own)
-        t += own_weight_[k] * t_of(i, factors_.own_dilatation[k], factors_.own_deviatoric[k]);
+        t += length * (own_dilatation_[k] * alpha_[i] - own_weight_[k] * beta_[i]) +
+             own_weight_[k] * deviatoric_coefficient_[i] * e;
       if (dual)
-        t += dual_weight_[k] * t_of(j, factors_.dual_dilatation[k], factors_.dual_deviatoric[k]);
+        t += length * (dual_dilatation_[k] * alpha_[j] - dual_weight_[k] * beta_[j]) +
+             dual_weight_[k] * deviatoric_coefficient_[j] * e;
       for (int a = 0; a < Dim; ++a) f[a] += t * dir[a];
     }
     for (int a = 0; a < Dim; ++a) out[a][i] = per_density ? -f[a] / p.density[i] : f[a];
@@ -257,7 +261,7 @@ std::vector<double> OrdinaryState::energy_density(const BondRows& rows, const Pa
       double deviatoric = 0.0;
       each_intact_own<Dim>(rows, i, kin, [&](std::int64_t k, double length, double e) {
         const double ed = e - theta_[i] * length / n_;
-        deviatoric += factors_.own_deviatoric[k] * own_weight_[k] * ed * ed;
+        deviatoric += own_weight_[k] * ed * ed;
       });
       energy[i] =
           0.5 * bulk_[i] * theta_[i] * theta_[i] + 0.5 * deviatoric_coefficient_[i] * deviatoric;
@@ -275,10 +279,8 @@ double OrdinaryState::strain_energy(const BondRows& rows, const ParticleStore& p
 
 std::size_t OrdinaryState::bytes() const {
   std::size_t b = 0;
-  for (const auto* v :
-       {&m_, &bulk_, &deviatoric_coefficient_, &theta_, &alpha_, &beta_, &own_weight_,
-        &dual_weight_, &factors_.own_dilatation, &factors_.own_deviatoric,
-        &factors_.dual_dilatation, &factors_.dual_deviatoric})
+  for (const auto* v : {&m_, &bulk_, &deviatoric_coefficient_, &theta_, &alpha_, &beta_,
+                        &own_weight_, &dual_weight_, &own_dilatation_, &dual_dilatation_})
     b += v->capacity() * sizeof(double);
   return b;
 }

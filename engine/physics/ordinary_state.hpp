@@ -95,11 +95,12 @@ class OrdinaryState {
   std::vector<double> theta_;
   /// Per particle of the last pass (20.7): α = (n/m)(κθ − Q S/n), β = Q θ/n.
   std::vector<double> alpha_, beta_;
-  /// Per row entry: the surface factors (1 without the correction).
-  SurfaceFactors factors_;
-  /// Per row entry: ω β V_other of the own bond, and of the bond the other particle owns on this
-  /// one (ω_ji β_ji V_j; classical variable horizon: ω_ji β_ij V_j where j's horizon holds i).
+  /// Per row entry: w = ω β V_other of the own bond, and of the bond the other particle owns on
+  /// this one (ω_ji β_ji V_j; classical variable horizon: ω_ji β_ij V_j where j's horizon holds
+  /// i), times the owner's deviatoric surface factor g along the bond (§20.5; 1 without).
   std::vector<double> own_weight_, dual_weight_;
+  /// The same w times the owner's dilatation factor h.
+  std::vector<double> own_dilatation_, dual_dilatation_;
 };
 
 }  // namespace dhpd

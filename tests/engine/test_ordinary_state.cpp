@@ -187,21 +187,23 @@ TEST_P(StateMomentum, DualHorizonBalancesAndClassicalVariableDoesNot) {
   const std::size_t n = dim == 1 ? 300 : (dim == 2 ? 600 : 700);
   const double h = dim == 1 ? 2e-3 : (dim == 2 ? 0.01 : 0.03);
   const auto s = section_of(dim);
-  for (const auto w : {Influence::Constant, Influence::InverseDistance}) {
-    auto p = test::random_cloud(dim, n, h, 10.0, 3.015, 11 + dim);
-    auto q = p;
-    // With the surface correction: its factors are the pair's, the same in both rows.
-    auto dh = assemble_state(p, s, 0.3, ForceModel::DualHorizon, w, PartialVolume::Linear, true);
-    auto cv = assemble_state(q, s, 0.3, ForceModel::ClassicalVariable, w);
-    dh.model.forces(dh.bonds, p);
-    cv.model.forces(cv.bonds, q);
-    const auto a = test::momentum_balance(p), b = test::momentum_balance(q);
-    std::printf("%dD %s: DH |ΣF|/Σ|F| = %.2e, |ΣM|/Σ|M| = %.2e; classical variable %.2e, %.2e\n",
-                dim, std::string(to_string(w)).c_str(), a.linear, a.angular, b.linear, b.angular);
-    EXPECT_LT(a.linear, 1e-12);
-    EXPECT_LT(a.angular, 1e-12);
-    EXPECT_GT(b.linear, 1e6 * std::max(a.linear, 1e-18));
-  }
+  for (const auto rule : {PartialVolume::None, PartialVolume::Linear, PartialVolume::Exact})
+    for (const auto w : {Influence::Constant, Influence::InverseDistance}) {
+      auto p = test::random_cloud(dim, n, h, 10.0, 3.015, 11 + dim);
+      auto q = p;
+      // With the surface correction: its factors are the owner's, the same in both rows.
+      auto dh = assemble_state(p, s, 0.3, ForceModel::DualHorizon, w, rule, true);
+      auto cv = assemble_state(q, s, 0.3, ForceModel::ClassicalVariable, w, rule);
+      dh.model.forces(dh.bonds, p);
+      cv.model.forces(cv.bonds, q);
+      const auto a = test::momentum_balance(p), b = test::momentum_balance(q);
+      std::printf("%dD %s %s: DH |ΣF|/Σ|F| = %.2e, |ΣM|/Σ|M| = %.2e; classical variable %.2e\n",
+                  dim, std::string(to_string(rule)).c_str(), std::string(to_string(w)).c_str(),
+                  a.linear, a.angular, b.linear);
+      EXPECT_LT(a.linear, 1e-12);
+      EXPECT_LT(a.angular, 1e-12);
+      EXPECT_GT(b.linear, 1e6 * std::max(a.linear, 1e-18));
+    }
 }
 
 INSTANTIATE_TEST_SUITE_P(Dimensions, StateMomentum, ::testing::Values(1, 2, 3));
