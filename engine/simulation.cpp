@@ -55,14 +55,6 @@ Simulation::Simulation(SimulationSetup setup)
   for (std::size_t i = 0; i < p_.size(); ++i) max_horizon_ = std::max(max_horizon_, p_.horizon[i]);
 }
 
-void Simulation::build_state_model() {
-  if (setup_.family != ModelFamily::OrdinaryState) return;
-  state_.emplace(
-      bonds_, p_,
-      OrdinaryStateInputs{setup_.section, setup_.model, setup_.partial_volume, setup_.influence,
-                          &setup_.materials, setup_.surface_correction});
-}
-
 double Simulation::estimate_critical_dt() {
   const double bound = smallest(particle_dt_);
   // Lanczos needs M⁻¹K symmetric in the mass inner product: the classical variable-horizon model's
@@ -86,22 +78,6 @@ double Simulation::estimate_critical_dt() {
   // particle_dt_ is the bond-based bound of the same E: a guide for the start vector and for when
   // to iterate again, not a bound of the state-based model (docs/theory.md §20.3).
   return state_ ? lanczos_dt_ : std::max(bound, lanczos_dt_);
-}
-
-double Simulation::state_lanczos_dt() const {
-  // The classical variable-horizon model's operator is not symmetric (ghost forces): its step is
-  // that of the dual-horizon model on the same particles, which it equals where horizons agree.
-  std::optional<OrdinaryState> dual;
-  if (setup_.model == ForceModel::ClassicalVariable)
-    dual.emplace(
-        bonds_, p_,
-        OrdinaryStateInputs{setup_.section, ForceModel::DualHorizon, setup_.partial_volume,
-                            setup_.influence, &setup_.materials, setup_.surface_correction});
-  OrdinaryState model = dual ? std::move(*dual) : *state_;
-  const auto apply = [&](const std::vector<double>& u, std::vector<double>& out) {
-    model.stiffness_times(bonds_, p_, u, out);
-  };
-  return lanczos_stable_step(apply, p_, 80, 1e-4, &particle_dt_).dt;
 }
 
 void Simulation::init_particles() {

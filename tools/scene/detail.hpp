@@ -147,6 +147,13 @@ std::string material_name(const Cursor& c, const Scene& s);
 std::vector<LocatedInitialCondition> read_initial_conditions(const Cursor& c, int dim);
 std::vector<LocatedBoundaryCondition> read_boundary_conditions(const Cursor& c, int dim);
 
+/// `model` (sections/model.cpp): its word or map into the scene's family, horizon rule, influence
+/// and surface correction.
+void read_model(const MapView& top, Scene& s);
+/// What the state-based family refuses (time.stable_step: bound, time.multirate: true); model
+/// and time must already be read.
+void check_state_family(const MapView& top, const Scene& s);
+
 /// `effects.refinement` (scene_refinement.cpp); body and model must already be read.
 std::optional<RefinementSpec> read_refinement(const Cursor& c, const Scene& s);
 

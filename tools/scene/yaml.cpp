@@ -156,65 +156,6 @@ std::vector<NamedMaterial> read_materials(const Cursor& c, const Scene& s) {
   return materials;
 }
 
-/// What the ordinary state-based family does not offer (yet): a per-particle stable-step bound,
-/// time levels (docs/theory.md §20.3).
-void check_state_family(const MapView& top, const Scene& s) {
-  if (s.family == ModelFamily::Bond) return;
-  const MapView time(top.require("time"), {});
-  if (const auto step = time.get("stable_step");
-      step && s.time.stable_step != StableStepEstimate::Lanczos)
-    step->fail(
-        "the per-particle bound is derived for bond-based PD; the state-based family takes "
-        "the Lanczos estimate of its own stiffness",
-        "lanczos");
-  if (const auto multirate = time.get("multirate"); multirate && *s.time.multirate)
-    multirate->fail(
-        "the state-based family takes one global step: a pair's force depends on "
-        "the dilatation of whole horizons",
-        "false");
-}
-
-/// `horizon` of `model` (or `model` itself as one word): how horizons of different sizes meet.
-ForceModel read_horizon_model(const Cursor& c) {
-  const std::vector<ForceModel> models{ForceModel::DualHorizon, ForceModel::ConstantHorizon,
-                                       ForceModel::ClassicalVariable};
-  std::vector<std::string> words;
-  for (const auto m : models) words.emplace_back(to_string(m));
-  return models[c.choice(words)];
-}
-
-/// `model`: one word (the bond-based family with that horizon rule) or
-/// {family, horizon, influence} (docs/scenes.md).
-void read_model(const MapView& top, Scene& s) {
-  const auto model = top.get("model");
-  if (!model) return;
-  if (!model->node().IsMap()) {
-    s.model = read_horizon_model(*model);
-    return;
-  }
-  const MapView map(*model, {"family", "horizon", "influence", "surface_correction"});
-  if (const auto family = map.get("family"))
-    s.family = family->choice({std::string(to_string(ModelFamily::Bond)),
-                               std::string(to_string(ModelFamily::OrdinaryState))}) == 0
-                   ? ModelFamily::Bond
-                   : ModelFamily::OrdinaryState;
-  if (const auto horizon = map.get("horizon")) s.model = read_horizon_model(*horizon);
-  if (const auto surface = map.get("surface_correction")) {
-    if (s.family == ModelFamily::Bond)
-      surface->fail("surface_correction applies to the state-based family only",
-                    "family: ordinary-state");
-    s.surface_correction = surface->boolean();
-  }
-  if (const auto influence = map.get("influence")) {
-    if (s.family == ModelFamily::Bond)
-      influence->fail("influence applies to the state-based family only", "family: ordinary-state");
-    s.influence = influence->choice({std::string(to_string(Influence::Constant)),
-                                     std::string(to_string(Influence::InverseDistance))}) == 0
-                      ? Influence::Constant
-                      : Influence::InverseDistance;
-  }
-}
-
 void read_discretisation(const MapView& top, Scene& s) {
   if (const auto horizon = top.get("horizon"))
     if (const auto factor = MapView(*horizon, {"factor"}).get("factor"))
@@ -356,7 +297,7 @@ Scene read_scene(const Cursor& root, const std::string& file) {
   if (effects) effect_map.emplace(*effects, std::vector<std::string>{"fracture", "refinement"});
   if (effect_map)
     if (const auto fracture = effect_map->get("fracture")) s.effects.fracture = fracture->boolean();
-  read_model(top, s);
+  detail::read_model(top, s);
   s.materials = read_materials(top.require("materials"), s);
   s.body = detail::read_body(top.require("body"), s);
   read_discretisation(top, s);
@@ -365,7 +306,7 @@ Scene read_scene(const Cursor& root, const std::string& file) {
       s.refinement = detail::read_refinement(*refinement, s);
   read_regions_and_loads(top, s);
   s.time = read_time(top.require("time"));
-  check_state_family(top, s);
+  detail::check_state_family(top, s);
   if (const auto output = top.get("output")) {
     s.output = read_output(*output);
   } else {

@@ -1,0 +1,34 @@
+// The ordinary state-based family in the stepper (docs/theory.md §20): its constants for the
+// current rows and its stable step.
+#include <optional>
+
+#include "engine/physics/stable_step.hpp"
+#include "engine/simulation.hpp"
+
+namespace dhpd {
+
+void Simulation::build_state_model() {
+  if (setup_.family != ModelFamily::OrdinaryState) return;
+  state_.emplace(
+      bonds_, p_,
+      OrdinaryStateInputs{setup_.section, setup_.model, setup_.partial_volume, setup_.influence,
+                          &setup_.materials, setup_.surface_correction});
+}
+
+double Simulation::state_lanczos_dt() const {
+  // The classical variable-horizon model's operator is not symmetric (ghost forces): its step is
+  // that of the dual-horizon model on the same particles, which it equals where horizons agree.
+  std::optional<OrdinaryState> dual;
+  if (setup_.model == ForceModel::ClassicalVariable)
+    dual.emplace(
+        bonds_, p_,
+        OrdinaryStateInputs{setup_.section, ForceModel::DualHorizon, setup_.partial_volume,
+                            setup_.influence, &setup_.materials, setup_.surface_correction});
+  OrdinaryState model = dual ? std::move(*dual) : *state_;
+  const auto apply = [&](const std::vector<double>& u, std::vector<double>& out) {
+    model.stiffness_times(bonds_, p_, u, out);
+  };
+  return lanczos_stable_step(apply, p_, 80, 1e-4, &particle_dt_).dt;
+}
+
+}  // namespace dhpd
