@@ -63,12 +63,14 @@ struct Linearised {
   }
 };
 
-/// f(k, |ξ|, e) for every intact own bond of row i.
+/// f(k, |ξ|, e) for every intact own bond of row i; |ξ| from `lengths` (the rows' 1/|ξ| table
+/// inverted once: the bits of BondRows::length, without a division per entry).
 template <int Dim, class Kinematics, class F>
-void each_intact_own(const BondRows& rows, std::size_t i, const Kinematics& kin, F&& f) {
+void each_intact_own(const BondRows& rows, const double* lengths, std::size_t i,
+                     const Kinematics& kin, F&& f) {
   for (auto k = rows.begin(i); k < rows.end(i); ++k) {
     if (!rows.own_intact(k)) continue;
-    const double length = rows.length(k);
+    const double length = lengths[rows.length_index[k]];
     f(k, length, kin.template extension<Dim>(i, static_cast<std::size_t>(rows.other[k]), length));
   }
 }
@@ -129,6 +131,8 @@ OrdinaryState::OrdinaryState(const BondRows& rows, const ParticleStore& p,
   beta_.assign(count, 0.0);
   own_weight_.assign(rows.flags.size(), 0.0);
   dual_weight_.assign(rows.flags.size(), 0.0);
+  lengths_.resize(rows.inverse_lengths.size());
+  for (std::size_t t = 0; t < lengths_.size(); ++t) lengths_[t] = 1.0 / rows.inverse_lengths[t];
   each_particle(count, [&](std::size_t i) {
     double m = 0.0;
     for (auto k = rows.begin(i); k < rows.end(i); ++k) {
@@ -177,11 +181,12 @@ void OrdinaryState::dilatation_pass(const BondRows& rows, const ParticleStore& p
   each_particle(p.size(), [&](std::size_t i) {
     // θ = (n/m) Σ h w |ξ| e;  S = Σ g w e^d |ξ| = Σ g w e |ξ| − (θ/n) Σ g w |ξ|² (§20.5).
     double theta = 0.0, extension = 0.0, moment = 0.0;
-    each_intact_own<Dim>(rows, i, kin, [&](std::int64_t k, double length, double e) {
-      theta += own_dilatation_[k] * length * e;
-      extension += own_weight_[k] * length * e;
-      moment += own_weight_[k] * length * length;
-    });
+    each_intact_own<Dim>(rows, lengths_.data(), i, kin,
+                         [&](std::int64_t k, double length, double e) {
+                           theta += own_dilatation_[k] * length * e;
+                           extension += own_weight_[k] * length * e;
+                           moment += own_weight_[k] * length * length;
+                         });
     if (!(m_[i] > 0.0)) {
       theta_[i] = alpha_[i] = beta_[i] = 0.0;
       return;
@@ -203,7 +208,7 @@ void OrdinaryState::force_pass(const BondRows& rows, const ParticleStore& p, con
       const bool dual = classical_ ? own && rows.dual_intact(k) : rows.dual_intact(k);
       if (!own && !dual) continue;
       const auto j = static_cast<std::size_t>(rows.other[k]);
-      const double length = rows.length(k);
+      const double length = lengths_[rows.length_index[k]];
       double dir[Dim];
       const double e = kin.template at<Dim>(i, j, length, dir);
       // t w = |ξ| (w h α − w g β) + w g Q e  (20.7), the owner's α, β, Q and factors.
@@ -259,10 +264,11 @@ std::vector<double> OrdinaryState::energy_density(const BondRows& rows, const Pa
     dilatation_pass<Dim>(rows, p, kin);
     each_particle(p.size(), [&](std::size_t i) {
       double deviatoric = 0.0;
-      each_intact_own<Dim>(rows, i, kin, [&](std::int64_t k, double length, double e) {
-        const double ed = e - theta_[i] * length / n_;
-        deviatoric += own_weight_[k] * ed * ed;
-      });
+      each_intact_own<Dim>(rows, lengths_.data(), i, kin,
+                           [&](std::int64_t k, double length, double e) {
+                             const double ed = e - theta_[i] * length / n_;
+                             deviatoric += own_weight_[k] * ed * ed;
+                           });
       energy[i] =
           0.5 * bulk_[i] * theta_[i] * theta_[i] + 0.5 * deviatoric_coefficient_[i] * deviatoric;
     });

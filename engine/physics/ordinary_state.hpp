@@ -101,6 +101,8 @@ class OrdinaryState {
   std::vector<double> own_weight_, dual_weight_;
   /// The same w times the owner's dilatation factor h.
   std::vector<double> own_dilatation_, dual_dilatation_;
+  /// |ξ| of each entry of the rows' table of distinct lengths (1 / inverse_lengths).
+  std::vector<double> lengths_;
 };
 
 }  // namespace dhpd
