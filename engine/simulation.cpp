@@ -59,8 +59,8 @@ double Simulation::estimate_critical_dt() {
   const double bound = smallest(particle_dt_);
   // Lanczos needs M⁻¹K symmetric in the mass inner product: the classical variable-horizon model's
   // ghost forces make it not, so that model keeps the bound (docs/theory.md §9).
-  if (!state_ && (setup_.stable_step == StableStepEstimate::ParticleBound ||
-                  !std::isfinite(bound) || setup_.model == ForceModel::ClassicalVariable))
+  if (!state_based() && (setup_.stable_step == StableStepEstimate::ParticleBound ||
+                         !std::isfinite(bound) || setup_.model == ForceModel::ClassicalVariable))
     return bound;
   if (!std::isfinite(bound)) return bound;
   // After an edit that leaves the smallest per-particle bound where the last Lanczos estimate
@@ -70,14 +70,14 @@ double Simulation::estimate_critical_dt() {
   // runs Lanczos anew (docs/theory.md §9).
   if (lanczos_bound_ > 0.0 && bound >= 0.99 * lanczos_bound_) {
     const double followed = lanczos_dt_ * std::min(1.0, bound / lanczos_bound_);
-    return state_ ? followed : std::max(bound, followed);
+    return state_based() ? followed : std::max(bound, followed);
   }
-  lanczos_dt_ =
-      state_ ? state_lanczos_dt() : lanczos_stable_step(bonds_, p_, 80, 1e-4, &particle_dt_).dt;
+  lanczos_dt_ = state_based() ? state_lanczos_dt()
+                              : lanczos_stable_step(bonds_, p_, 80, 1e-4, &particle_dt_).dt;
   lanczos_bound_ = bound;
   // particle_dt_ is the bond-based bound of the same E: a guide for the start vector and for when
   // to iterate again, not a bound of the state-based model (docs/theory.md §20.3).
-  return state_ ? lanczos_dt_ : std::max(bound, lanczos_dt_);
+  return state_based() ? lanczos_dt_ : std::max(bound, lanczos_dt_);
 }
 
 void Simulation::init_particles() {
@@ -147,7 +147,9 @@ void Simulation::compute_forces(bool with_fracture, std::vector<double>* row_ene
                                 const SideTask* side) {
   {
     auto t = timers_.scope(Phase::Forces);
-    if (state_) {
+    if (correspondence_) {
+      correspondence_->forces(bonds_, p_);  // elastic: no fracture (refused by the scene)
+    } else if (state_) {
       // Breaks first: the dilatation sums the bonds left (docs/theory.md §20.4).
       if (with_fracture) broken_ += break_bonds(bonds_, p_, bond_constants());
       state_->forces(bonds_, p_);
@@ -188,7 +190,7 @@ void Simulation::step(StepExtras extras) {
   const double body_work = levels_ ? multirate_step(extras, evaluated) : verlet_step(extras);
   finish_step(body_work);
   bond_updates_ += evaluated;
-  if (extras.strain_energy && !levels_ && !state_) {
+  if (extras.strain_energy && !levels_ && !state_based()) {
     auto t = timers_.scope(Phase::Diagnostics);
     fused_energy_.strain = strain_energy_of_row_sums(fused_energy_.rows, p_);
     fused_energy_.step = steps_;
@@ -319,9 +321,12 @@ Energies Simulation::energies() {
   Energies e;
   for (int a = 0; a < 3; ++a) e.momentum[a] = sums.momentum[a];
   e.kinetic = sums.kinetic;
-  e.strain = state_                      ? state_->strain_energy(bonds_, p_)
-             : strain_energy_from_step() ? fused_energy_.strain
-                                         : strain_energy_total(bonds_, p_);
+  if (correspondence_)
+    e.strain = correspondence_->strain_energy(bonds_, p_);
+  else if (state_)
+    e.strain = state_->strain_energy(bonds_, p_);
+  else
+    e.strain = strain_energy_from_step() ? fused_energy_.strain : strain_energy_total(bonds_, p_);
   e.external_work = external_work_;
   e.verlet_correction = levels_ ? multirate_correction() : sums.correction;
   return e;
@@ -373,6 +378,7 @@ Simulation::MemoryUse Simulation::memory_use() const {
   m.other += touched_.capacity();
   if (levels_) m.other += levels_->bytes();
   if (state_) m.other += state_->bytes();
+  if (correspondence_) m.other += correspondence_->bytes();
   return m;
 }
 

@@ -10,6 +10,7 @@
 #include "engine/discretization/bonds.hpp"
 #include "engine/discretization/particles.hpp"
 #include "engine/discretization/section.hpp"
+#include "engine/physics/correspondence.hpp"
 #include "engine/physics/force_kernel.hpp"
 #include "engine/physics/interactions.hpp"
 #include "engine/physics/interface_consistency.hpp"
@@ -194,8 +195,10 @@ class Simulation {
   /// Upper bounds used by bond searches: of every horizon, and of the radius added to it.
   double max_horizon() const { return max_horizon_; }
   double bond_reach() const { return reach_; }
-  /// The ordinary state-based model (null for the bond-based family).
+  /// The ordinary state-based model (null for the other families).
   const OrdinaryState* ordinary_state() const { return state_ ? &*state_ : nullptr; }
+  /// Whether a state-based family (ordinary or correspondence) computes the forces.
+  bool state_based() const { return state_ || correspondence_; }
   /// Whether level-interface factors are solved (dual-horizon with the correction on).
   bool corrects_interfaces() const;
   const ResolvedLoads& loads() const { return loads_; }
@@ -304,6 +307,8 @@ class Simulation {
   std::vector<double> state_phi_;
   /// The ordinary state-based model's constants and dilatation (family OrdinaryState only).
   std::optional<OrdinaryState> state_;
+  /// The correspondence model (family Correspondence only).
+  std::optional<Correspondence> correspondence_;
   std::vector<double> particle_dt_;  ///< stable step of each particle's row (docs/theory.md §9)
   double reach_ = 0.0;               ///< upper bound on radii (exact) for bond searches
   double max_horizon_ = 0.0;         ///< upper bound on every horizon

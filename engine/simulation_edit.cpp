@@ -27,8 +27,8 @@ Simulation::Discretisation Simulation::begin_edit(std::vector<std::int32_t> ener
   if (edit_) throw EngineError("begin_edit: an edit is already open");
   // The state-based family's level interfaces carry a force layer that no correction removes yet:
   // Kalthoff–Winkler 2D adaptive cracked along them from the back face (docs/theory.md §20.2).
-  if (state_)
-    throw InputError("refinement is not available with the ordinary state-based family yet");
+  if (state_based())
+    throw InputError("refinement is not available with the state-based families yet");
   if (setup_.model == ForceModel::ConstantHorizon)
     throw InputError(
         "refinement needs per-particle horizons: use model dual-horizon (or classical-variable), "

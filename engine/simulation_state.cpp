@@ -8,6 +8,9 @@
 namespace dhpd {
 
 void Simulation::build_state_model() {
+  const OrdinaryStateInputs in{setup_.section,   setup_.model,      setup_.partial_volume,
+                               setup_.influence, &setup_.materials, setup_.surface_correction};
+  if (setup_.family == ModelFamily::Correspondence) correspondence_.emplace(bonds_, p_, in);
   if (setup_.family != ModelFamily::OrdinaryState) return;
   state_.emplace(
       bonds_, p_,
@@ -16,6 +19,13 @@ void Simulation::build_state_model() {
 }
 
 double Simulation::state_lanczos_dt() const {
+  if (correspondence_) {
+    Correspondence model = *correspondence_;  // its passes overwrite the state they keep
+    const auto apply = [&](const std::vector<double>& u, std::vector<double>& out) {
+      model.stiffness_times(bonds_, p_, u, out);
+    };
+    return lanczos_stable_step(apply, p_, 80, 1e-4, &particle_dt_).dt;
+  }
   // The classical variable-horizon model's operator is not symmetric (ghost forces): its step is
   // that of the dual-horizon model on the same particles, which it equals where horizons agree.
   std::optional<OrdinaryState> dual;

@@ -20,7 +20,14 @@ std::string_view to_string(ForceModel m) {
   }
 }
 std::string_view to_string(ModelFamily f) {
-  return f == ModelFamily::Bond ? "bond" : "ordinary-state";
+  switch (f) {
+    case ModelFamily::Bond:
+      return "bond";
+    case ModelFamily::OrdinaryState:
+      return "ordinary-state";
+    default:
+      return "correspondence";
+  }
 }
 std::string_view to_string(Influence w) {
   return w == Influence::Constant ? "constant" : "inverse-distance";

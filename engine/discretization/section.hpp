@@ -9,9 +9,10 @@ enum class ForceModel {
   ConstantHorizon,    ///< classical BB-PD, one δ everywhere, micromodulus 2C(δ)
   ClassicalVariable,  ///< classical BB-PD with each particle's own δ_i and no dual: ghost forces
 };
-/// The force state of a bond (docs/theory.md §20): bond-based (a pair force from the bond's own
-/// stretch) or ordinary state-based (also the owner's dilatation; any Poisson's ratio).
-enum class ModelFamily { Bond, OrdinaryState };
+/// The force state of a bond (docs/theory.md §20, §21): bond-based (a pair force from the bond's
+/// own stretch), ordinary state-based (also the owner's dilatation; any Poisson's ratio) or
+/// correspondence (the owner's deformation gradient and Hooke's stress).
+enum class ModelFamily { Bond, OrdinaryState, Correspondence };
 /// Influence function ω of the state-based models: 1, or δ_owner/|ξ| (the Madenci–Oterkus form's).
 enum class Influence { Constant, InverseDistance };
 /// β_ij rule of docs/theory.md §7: none, linear (CMAME 2017 eq. A.1), exact (App. A, ball overlap).

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <utility>
 
 #include "tools/scene/build.hpp"
 #include "tools/scene/scene.hpp"
@@ -88,6 +89,23 @@ TEST(WavePlateState, DualHorizonAsUniformClassicalVariableScatters) {
   // The uniform plate's own accuracy: the pulse arrives (a missing shell of bonds, or a wrong
   // modulus, shifts it by millimetres and the error past 0.5 by step 200).
   EXPECT_LT(a[1], 0.1);
+}
+
+// The correspondence family on the same test (docs/theory.md §21): dual horizons as good as the
+// uniform plate, and the horizon-size paper's ranking for it, δ = 2Δx better than 3Δx.
+TEST(WavePlateState, CorrespondenceDualHorizonAndItsBestHorizon) {
+  const std::string family = "model.family=correspondence";
+  const Errors a2 = run_model({family, "horizon.factor=2.015", "body.1.spacing=0.001"});
+  const Errors c2 = run_model({family, "horizon.factor=2.015"});
+  const Errors a3 = run_model({family, "horizon.factor=3.0", "body.1.spacing=0.001"});
+  std::printf("correspondence, L2 at steps 100 / 200 / 650 / 990:\n");
+  for (const auto& [name, e] :
+       {std::pair{"A, δ = 2Δx", a2}, {"C, δ = 2Δx", c2}, {"A, δ = 3Δx", a3}})
+    std::printf("  %-12s %.4f %.4f %.4f %.4f\n", name, e[0], e[1], e[2], e[3]);
+  for (std::size_t k = 0; k < kSteps.size(); ++k) {
+    EXPECT_LE(c2[k], std::max(1.15 * a2[k], a2[k] + 0.01)) << "step " << kSteps[k];
+    if (kSteps[k] >= 650) EXPECT_LT(a2[k], a3[k]) << "step " << kSteps[k];
+  }
 }
 
 }  // namespace

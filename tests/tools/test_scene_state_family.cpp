@@ -58,14 +58,19 @@ TEST(StateFamilyScene, RefusesWithLocation) {
        "stress, got 0.3"},
       {scene("{E: 1.0e9, rho: 1000}", "{family: state}"), "bad.yaml:7: model.family: unknown"},
       {scene("{E: 1.0e9, rho: 1000}", "{family: bond, surface_correction: true}"),
-       "bad.yaml:7: model.surface_correction: surface_correction applies to the state-based family "
-       "only"},
+       "bad.yaml:7: model.surface_correction: surface_correction applies to the ordinary "
+       "state-based family only"},
+      {scene("{E: 1.0e9, rho: 1000}", "{family: correspondence, horizon: classical-variable}"),
+       "bad.yaml:7: model.horizon: the correspondence family is offered with dual"},
+      {scene("{E: 1.0e9, rho: 1000, G0: 1.0, nu: 0.3}", "{family: correspondence}",
+             "effects: {fracture: true}\n"),
+       "bad.yaml:7: model.family: the correspondence family is elastic"},
       {scene("{E: 1.0e9, rho: 1000}", "{family: bond, influence: constant}"),
        "bad.yaml:7: model.influence: influence applies to the state-based family only"},
       {scene("{E: 1.0e9, rho: 1000, G0: 1.0, nu: 0.3}", "{family: ordinary-state}",
              "effects: {refinement: true}\n"),
-       "bad.yaml:9: effects.refinement: refinement is not available with the ordinary state-based "
-       "family yet"},
+       "bad.yaml:9: effects.refinement: refinement is not available with the state-based families "
+       "yet"},
       {scene("{E: 1.0e9, rho: 1000}", "{family: ordinary-state}", "interfaces: consistent\n"),
        "bad.yaml:9: interfaces: interfaces: consistent corrects the bond-based pair stiffness"},
       {scene("{E: 1.0e9, rho: 1000}", "{family: ordinary-state}", "", 2,

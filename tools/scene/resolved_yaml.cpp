@@ -347,8 +347,10 @@ std::string resolved_yaml(const Scene& s) {
     out << YAML::Flow << YAML::BeginMap << YAML::Key << "family" << YAML::Value
         << std::string(to_string(s.family)) << YAML::Key << "horizon" << YAML::Value
         << std::string(to_string(s.model)) << YAML::Key << "influence" << YAML::Value
-        << std::string(to_string(s.influence)) << YAML::Key << "surface_correction" << YAML::Value
-        << s.surface_correction << YAML::EndMap;
+        << std::string(to_string(s.influence));
+    if (s.family == ModelFamily::OrdinaryState)
+      out << YAML::Key << "surface_correction" << YAML::Value << s.surface_correction;
+    out << YAML::EndMap;
   }
   out << YAML::Key << "partial_volume" << YAML::Value << std::string(to_string(s.partial_volume));
   out << YAML::Key << "interfaces" << YAML::Value

@@ -30,15 +30,23 @@ void read_model(const MapView& top, Scene& s) {
     return;
   }
   const MapView map(*model, {"family", "horizon", "influence", "surface_correction"});
-  if (const auto family = map.get("family"))
-    s.family = family->choice({std::string(to_string(ModelFamily::Bond)),
-                               std::string(to_string(ModelFamily::OrdinaryState))}) == 0
-                   ? ModelFamily::Bond
-                   : ModelFamily::OrdinaryState;
-  if (const auto horizon = map.get("horizon")) s.model = read_horizon_model(*horizon);
+  if (const auto family = map.get("family")) {
+    const std::vector<ModelFamily> families{ModelFamily::Bond, ModelFamily::OrdinaryState,
+                                            ModelFamily::Correspondence};
+    std::vector<std::string> words;
+    for (const auto f : families) words.emplace_back(to_string(f));
+    s.family = families[family->choice(words)];
+  }
+  if (const auto horizon = map.get("horizon")) {
+    s.model = read_horizon_model(*horizon);
+    if (s.family == ModelFamily::Correspondence && s.model == ForceModel::ClassicalVariable)
+      horizon->fail(
+          "the correspondence family is offered with dual (or one constant) horizons only",
+          "dual-horizon, constant-horizon");
+  }
   if (const auto surface = map.get("surface_correction")) {
-    if (s.family == ModelFamily::Bond)
-      surface->fail("surface_correction applies to the state-based family only",
+    if (s.family != ModelFamily::OrdinaryState)
+      surface->fail("surface_correction applies to the ordinary state-based family only",
                     "family: ordinary-state");
     s.surface_correction = surface->boolean();
   }
@@ -56,6 +64,13 @@ void read_model(const MapView& top, Scene& s) {
 /// time levels (docs/theory.md §20.3).
 void check_state_family(const MapView& top, const Scene& s) {
   if (s.family == ModelFamily::Bond) return;
+  if (s.family == ModelFamily::Correspondence && s.effects.fracture)
+    MapView(top.require("model"), {})
+        .require("family")
+        .fail(
+            "the correspondence family is elastic: it has no bond breaking (effects.fracture is "
+            "true)",
+            "ordinary-state or bond, or effects.fracture: false");
   const MapView time(top.require("time"), {});
   if (const auto step = time.get("stable_step");
       step && s.time.stable_step != StableStepEstimate::Lanczos)

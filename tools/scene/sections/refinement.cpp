@@ -54,9 +54,9 @@ void check_refinable(const Cursor& c, const Scene& s) {
         "refinement needs per-particle horizons; model constant-horizon uses one horizon for "
         "the whole body",
         "model dual-horizon or classical-variable");
-  if (s.family == ModelFamily::OrdinaryState)
+  if (s.family != ModelFamily::Bond)
     c.fail(
-        "refinement is not available with the ordinary state-based family yet: its level "
+        "refinement is not available with the state-based families yet: their level "
         "interfaces carry a force layer that no correction removes (docs/theory.md §20.2)",
         "model family bond, or refinement: false");
 }
