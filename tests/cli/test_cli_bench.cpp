@@ -50,6 +50,8 @@ TEST_F(CliTest, BenchCountsDirectedBondsAndRunsLammpsOnTheSamePlate) {
   EXPECT_NE(o.out.find("ns/bond/core"), std::string::npos);
   EXPECT_TRUE(std::regex_search(o.out, std::regex(R"(dhpd state-based +1 +off +[0-9.]+)")))
       << o.out;
+  EXPECT_TRUE(std::regex_search(o.out, std::regex(R"(dhpd correspondence +1 +off +[0-9.]+)")))
+      << o.out;
   EXPECT_TRUE(std::regex_search(o.out, std::regex(R"(dhpd memory: \d+ B per particle)")));
   if (std::system("command -v lmp >/dev/null 2>&1") != 0) GTEST_SKIP() << "lmp not installed";
   EXPECT_NE(o.out.find("LAMMPS peri/pmb      1 rank"), std::string::npos) << o.out;
