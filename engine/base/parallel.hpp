@@ -32,6 +32,15 @@ inline std::pair<std::int64_t, std::int64_t> team_range(std::int64_t n, int thre
   return {begin, begin + base + (thread < extra ? 1 : 0)};
 }
 
+/// f(i) for every particle i < count, in parallel from kParallelMinParticles on (static
+/// schedule); each call writes only its own particle's results.
+template <class F>
+void for_each_particle(std::size_t count, F&& f) {
+  const auto n = static_cast<std::int64_t>(count);
+#pragma omp parallel for schedule(static) if (n >= kParallelMinParticles)
+  for (std::int64_t i = 0; i < n; ++i) f(static_cast<std::size_t>(i));
+}
+
 /// Calls f(std::integral_constant<int, D>{}) with D = dim (1, 2, else 3): the one place a run's
 /// dimension picks a kernel's instantiation, once per call and never per bond.
 template <class F>

@@ -11,13 +11,6 @@
 namespace dhpd {
 namespace {
 
-template <class F>
-void each_particle(std::size_t count, F&& f) {
-  const auto n = static_cast<std::int64_t>(count);
-#pragma omp parallel for schedule(static) if (n >= kParallelMinParticles)
-  for (std::int64_t i = 0; i < n; ++i) f(static_cast<std::size_t>(i));
-}
-
 /// λ and μ of Hooke's law in the dimension: plane stress λ* = Eν/(1−ν²); 1D σ = E ε.
 std::array<double, 2> hooke(const Material& m, const Section& s) {
   if (s.dim == 1) return {m.E, 0.0};
@@ -44,7 +37,7 @@ Correspondence::Correspondence(const BondRows& rows, const ParticleStore& p,
   const auto omega = [&](std::size_t owner, double length) {
     return in.influence == Influence::Constant ? 1.0 : p.horizon[owner] / length;
   };
-  each_particle(count, [&](std::size_t i) {
+  for_each_particle(count, [&](std::size_t i) {
     Eigen::Matrix3d K = Eigen::Matrix3d::Zero();
     for (auto k = rows.begin(i); k < rows.end(i); ++k) {
       const auto j = static_cast<std::size_t>(rows.other[k]);
@@ -88,7 +81,7 @@ Correspondence::Correspondence(const BondRows& rows, const ParticleStore& p,
 template <int Dim>
 void Correspondence::state_pass(const BondRows& rows, const ParticleStore& p,
                                 const double* const u[3]) {
-  each_particle(p.size(), [&](std::size_t i) {
+  for_each_particle(p.size(), [&](std::size_t i) {
     // H = (Σ w Δu ⊗ ξ) K⁻¹, ε = sym H, σ = λ tr ε I + 2μ ε.
     double A[Dim][Dim] = {};
     for (auto k = rows.begin(i); k < rows.end(i); ++k) {
@@ -130,7 +123,7 @@ void Correspondence::state_pass(const BondRows& rows, const ParticleStore& p,
 template <int Dim>
 void Correspondence::force_pass(const BondRows& rows, const ParticleStore& p,
                                 const double* const u[3], double* const out[3], bool per_density) {
-  each_particle(p.size(), [&](std::size_t i) {
+  for_each_particle(p.size(), [&](std::size_t i) {
     double f[Dim] = {};
     for (auto k = rows.begin(i); k < rows.end(i); ++k) {
       const bool own = rows.own_intact(k), dual = rows.dual_intact(k);
@@ -200,7 +193,7 @@ double Correspondence::strain_energy(const BondRows& rows, const ParticleStore& 
     const double* const u[3] = {p.displacement[0].data(), p.displacement[1].data(),
                                 p.displacement[2].data()};
     state_pass<Dim>(rows, p, u);
-    each_particle(p.size(), [&](std::size_t i) {
+    for_each_particle(p.size(), [&](std::size_t i) {
       // ½ σ : ε = ½ (σ K⁻¹) K : sym H; with σ symmetric, ½ σ : H. σ = (σ K⁻¹) K is not kept:
       // recompute σ from H.
       const auto &H = gradient_[i], &P = span_[i];

@@ -75,13 +75,6 @@ void each_intact_own(const BondRows& rows, const double* lengths, std::size_t i,
   }
 }
 
-template <class F>
-void each_particle(std::size_t count, F&& f) {
-  const auto n = static_cast<std::int64_t>(count);
-#pragma omp parallel for schedule(static) if (n >= kParallelMinParticles)
-  for (std::int64_t i = 0; i < n; ++i) f(static_cast<std::size_t>(i));
-}
-
 /// ∫_a^b f by Simpson's rule on `intervals` (even) intervals.
 template <class F>
 double simpson(F&& f, double a, double b, int intervals) {
@@ -133,7 +126,7 @@ OrdinaryState::OrdinaryState(const BondRows& rows, const ParticleStore& p,
   dual_weight_.assign(rows.flags.size(), 0.0);
   lengths_.resize(rows.inverse_lengths.size());
   for (std::size_t t = 0; t < lengths_.size(); ++t) lengths_[t] = 1.0 / rows.inverse_lengths[t];
-  each_particle(count, [&](std::size_t i) {
+  for_each_particle(count, [&](std::size_t i) {
     double m = 0.0;
     for (auto k = rows.begin(i); k < rows.end(i); ++k) {
       const auto j = static_cast<std::size_t>(rows.other[k]);
@@ -178,7 +171,7 @@ OrdinaryState::OrdinaryState(const BondRows& rows, const ParticleStore& p,
 template <int Dim, class Kinematics>
 void OrdinaryState::dilatation_pass(const BondRows& rows, const ParticleStore& p,
                                     const Kinematics& kin) {
-  each_particle(p.size(), [&](std::size_t i) {
+  for_each_particle(p.size(), [&](std::size_t i) {
     // θ = (n/m) Σ h w |ξ| e;  S = Σ g w e^d |ξ| = Σ g w e |ξ| − (θ/n) Σ g w |ξ|² (§20.5).
     double theta = 0.0, extension = 0.0, moment = 0.0;
     each_intact_own<Dim>(rows, lengths_.data(), i, kin,
@@ -201,7 +194,7 @@ void OrdinaryState::dilatation_pass(const BondRows& rows, const ParticleStore& p
 template <int Dim, class Kinematics>
 void OrdinaryState::force_pass(const BondRows& rows, const ParticleStore& p, const Kinematics& kin,
                                double* const out[3], bool per_density) {
-  each_particle(p.size(), [&](std::size_t i) {
+  for_each_particle(p.size(), [&](std::size_t i) {
     double f[Dim] = {};
     for (auto k = rows.begin(i); k < rows.end(i); ++k) {
       const bool own = rows.own_intact(k);
@@ -262,7 +255,7 @@ std::vector<double> OrdinaryState::energy_density(const BondRows& rows, const Pa
     constexpr int Dim = d();
     const Deformed kin{{p.position[0].data(), p.position[1].data(), p.position[2].data()}};
     dilatation_pass<Dim>(rows, p, kin);
-    each_particle(p.size(), [&](std::size_t i) {
+    for_each_particle(p.size(), [&](std::size_t i) {
       double deviatoric = 0.0;
       each_intact_own<Dim>(rows, lengths_.data(), i, kin,
                            [&](std::int64_t k, double length, double e) {

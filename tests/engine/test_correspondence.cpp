@@ -16,14 +16,7 @@
 namespace dhpd {
 namespace {
 
-Section section_of(int dim) {
-  Section s;
-  s.dim = dim;
-  s.plane = PlaneMode::Strain;
-  s.thickness = 1e-3;
-  s.area = 1e-6;
-  return s;
-}
+using test::section_of;
 
 struct Model {
   BondRows bonds;

@@ -30,14 +30,7 @@ StateAssembly assemble_state(const ParticleStore& p, const Section& s, double nu
   return a;
 }
 
-Section section_of(int dim, PlaneMode plane = PlaneMode::Strain) {
-  Section s;
-  s.dim = dim;
-  s.plane = plane;
-  s.thickness = 1e-3;
-  s.area = 1e-6;
-  return s;
-}
+using test::section_of;
 
 /// Applies y = X + ε X (ε symmetric, first dim axes) to every particle.
 void strain(ParticleStore& p, const double eps[3][3]) {

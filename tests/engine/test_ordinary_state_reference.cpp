@@ -17,12 +17,7 @@ namespace {
 constexpr PartialVolume kRule = PartialVolume::Linear;
 
 Section plane_stress(int dim) {
-  Section s;
-  s.dim = dim;
-  s.plane = PlaneMode::Stress;
-  s.thickness = 1e-3;
-  s.area = 1e-6;
-  return s;
+  return test::section_of(dim, PlaneMode::Stress);
 }
 
 double distance(const ParticleStore& p, const VectorArray& x, std::size_t i, std::size_t j) {

@@ -43,6 +43,17 @@ inline Assembly assemble(const ParticleStore& p, ForceModel model, PartialVolume
   return a;
 }
 
+/// A section of dimension `dim` (plane mode, thickness in 2D, area in 1D).
+inline Section section_of(int dim, PlaneMode plane = PlaneMode::Strain, double thickness = 1e-3,
+                          double area = 1e-6) {
+  Section s;
+  s.dim = dim;
+  s.plane = plane;
+  s.thickness = thickness;
+  s.area = area;
+  return s;
+}
+
 /// A random cloud in the unit cube (first `dim` axes) with spacings spread over [h, ratio·h].
 inline ParticleStore random_cloud(int dim, std::size_t n, double h, double ratio, double factor,
                                   unsigned seed) {

@@ -77,6 +77,14 @@ class MapView {
   std::vector<std::pair<std::string, Cursor>> entries_;
 };
 
+/// The value of `values` whose to_string is the word at `c` (Cursor::choice's message otherwise).
+template <class E>
+E named_choice(const Cursor& c, const std::vector<E>& values) {
+  std::vector<std::string> words;
+  for (const auto v : values) words.emplace_back(to_string(v));
+  return values[c.choice(words)];
+}
+
 /// Comma-separated list of words, for "(allowed: ...)".
 std::string join(const std::vector<std::string>& words);
 /// The closest word of `candidates` within a small edit distance, if any.

@@ -161,11 +161,9 @@ void read_discretisation(const MapView& top, Scene& s) {
     if (const auto factor = MapView(*horizon, {"factor"}).get("factor"))
       s.horizon_factor = detail::horizon_factor(*factor);
   if (const auto pv = top.get("partial_volume")) {
-    const std::vector<PartialVolume> rules{PartialVolume::None, PartialVolume::Linear,
-                                           PartialVolume::Exact};
-    std::vector<std::string> words;
-    for (const auto r : rules) words.emplace_back(to_string(r));
-    s.partial_volume = rules[pv->choice(words)];
+    s.partial_volume = detail::named_choice(
+        *pv, std::vector<PartialVolume>{PartialVolume::None, PartialVolume::Linear,
+                                        PartialVolume::Exact});
   }
   if (const auto interfaces = top.get("interfaces")) {
     s.interfaces = interfaces->choice({"consistent", "paper"}) == 0;

@@ -11,11 +11,9 @@ namespace {
 
 /// `horizon` of `model` (or `model` itself as one word): how horizons of different sizes meet.
 ForceModel read_horizon_model(const Cursor& c) {
-  const std::vector<ForceModel> models{ForceModel::DualHorizon, ForceModel::ConstantHorizon,
-                                       ForceModel::ClassicalVariable};
-  std::vector<std::string> words;
-  for (const auto m : models) words.emplace_back(to_string(m));
-  return models[c.choice(words)];
+  return named_choice(c,
+                      std::vector<ForceModel>{ForceModel::DualHorizon, ForceModel::ConstantHorizon,
+                                              ForceModel::ClassicalVariable});
 }
 
 }  // namespace
@@ -30,13 +28,10 @@ void read_model(const MapView& top, Scene& s) {
     return;
   }
   const MapView map(*model, {"family", "horizon", "influence", "surface_correction"});
-  if (const auto family = map.get("family")) {
-    const std::vector<ModelFamily> families{ModelFamily::Bond, ModelFamily::OrdinaryState,
-                                            ModelFamily::Correspondence};
-    std::vector<std::string> words;
-    for (const auto f : families) words.emplace_back(to_string(f));
-    s.family = families[family->choice(words)];
-  }
+  if (const auto family = map.get("family"))
+    s.family = named_choice(*family,
+                            std::vector<ModelFamily>{ModelFamily::Bond, ModelFamily::OrdinaryState,
+                                                     ModelFamily::Correspondence});
   if (const auto horizon = map.get("horizon")) {
     s.model = read_horizon_model(*horizon);
     if (s.family == ModelFamily::Correspondence && s.model == ForceModel::ClassicalVariable)
@@ -53,10 +48,8 @@ void read_model(const MapView& top, Scene& s) {
   if (const auto influence = map.get("influence")) {
     if (s.family == ModelFamily::Bond)
       influence->fail("influence applies to the state-based family only", "family: ordinary-state");
-    s.influence = influence->choice({std::string(to_string(Influence::Constant)),
-                                     std::string(to_string(Influence::InverseDistance))}) == 0
-                      ? Influence::Constant
-                      : Influence::InverseDistance;
+    s.influence = named_choice(
+        *influence, std::vector<Influence>{Influence::Constant, Influence::InverseDistance});
   }
 }
 
