@@ -69,6 +69,9 @@ std::vector<BadScene> bad_scenes() {
           "measure={tips: [{name: a, at: [0.02, 0.0025], direction: [1, 0]}]}",
           "--set measure.tips.0.at: the notch tip [0.02, 0.0025] lies outside the body's "
           "bounding box (allowed: [0, 0] to [0.01, 0.005])"),
+      set("SetProbeOutsideBody", "output.probes=[{name: P, at: [0.02, 0.0025]}]",
+          "--set output.probes.0.at: the probe [0.02, 0.0025] lies outside the body's "
+          "bounding box (allowed: [0, 0] to [0.01, 0.005])"),
       set("SetSpacingTooLarge", "body.0.spacing=0.05",
           "--set body.0.spacing: spacing 0.05 is larger than the part's smallest extent 0.005"),
       set("SetPathOutOfRange", "body.3.spacing=1e-3",

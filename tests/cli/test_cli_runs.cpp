@@ -142,6 +142,27 @@ TEST_F(CliTest, SetOverridesChangeTheRun) {
   EXPECT_NE(resolved.find("steps: 20"), std::string::npos) << resolved;
 }
 
+// output.probes: the particle nearest to each point, its u and v as history columns. `top` is
+// in the band pulled at 2 m/s (so v_y = 2 and u_y = 2 t at every row), `bottom` in the held one.
+TEST_F(CliTest, ProbesFollowTheirParticleInTheHistory) {
+  const auto dir = run_plate(
+      "probed", {},
+      {"output.probes=[{name: top, at: [0.0051, 0.0049]}, {name: bottom, at: [0.002, 0.0]}]"});
+  const auto h = read_history(dir / "history.csv");
+  EXPECT_EQ(h.header, std::string(kHistoryHeader) +
+                          ",top_ux,top_uy,top_vx,top_vy,bottom_ux,bottom_uy,bottom_vx,bottom_vy");
+  ASSERT_EQ(h.rows.size(), 7u);
+  for (const auto& row : h.rows) {
+    ASSERT_EQ(row.size(), 20u);
+    const double time = std::stod(row[1]);
+    EXPECT_EQ(std::stod(row[15]), 2.0);
+    EXPECT_NEAR(std::stod(row[13]), 2.0 * time, 1e-12 * (1.0 + 2.0 * time));
+    for (std::size_t k = 16; k < 20; ++k) EXPECT_EQ(std::stod(row[k]), 0.0) << k;
+  }
+  const std::string resolved = read_text(dir / "scene.resolved.yaml");
+  EXPECT_NE(resolved.find("- {name: top, at: [0.0051, 0.0049]}"), std::string::npos) << resolved;
+}
+
 TEST_F(CliTest, FractureOffIsNamedAndCostsNothing) {
   const auto dir = run_plate("result", {}, {"effects.fracture=false"});
   const auto summary = read_json(dir / "summary.json");

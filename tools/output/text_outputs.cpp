@@ -124,16 +124,19 @@ nlohmann::ordered_json crack_json(const measure::CrackSummary& c) {
 }  // namespace
 
 namespace {
-std::string history_header(int level_columns) {
+std::string history_header(int level_columns, const std::vector<std::string>& probe_columns) {
   std::string header = kHistoryHeader;
   for (int l = 0; l < level_columns; ++l) header += fmt::format(",particles_level_{}", l);
+  for (const auto& column : probe_columns) header += "," + column;
   return header;
 }
 }  // namespace
 
-HistoryWriter::HistoryWriter(const std::string& path, bool append, int level_columns)
-    : out_(open_csv(path, history_header(level_columns).c_str(), "history", append)),
-      level_columns_(level_columns) {}
+HistoryWriter::HistoryWriter(const std::string& path, bool append, int level_columns,
+                             std::vector<std::string> probe_columns)
+    : out_(open_csv(path, history_header(level_columns, probe_columns).c_str(), "history", append)),
+      level_columns_(level_columns),
+      probe_columns_(probe_columns.size()) {}
 
 void HistoryWriter::write(const HistoryRow& row) {
   auto text = fmt::format(
@@ -144,6 +147,8 @@ void HistoryWriter::write(const HistoryRow& row) {
     const auto k = static_cast<std::size_t>(l);
     text += fmt::format(",{}", k < row.particles_per_level.size() ? row.particles_per_level[k] : 0);
   }
+  for (std::size_t k = 0; k < probe_columns_; ++k)
+    text += fmt::format(",{:.17g}", k < row.probe_values.size() ? row.probe_values[k] : 0.0);
   write_row(out_, text + "\n", "history");
 }
 

@@ -22,6 +22,8 @@ struct HistoryRow {
   double momentum[3] = {0, 0, 0};
   /// Particles per time level (docs/theory.md §19), written when the writer has level columns.
   std::vector<std::int64_t> particles_per_level;
+  /// The probes' values (probes.hpp), written when the writer has probe columns.
+  std::vector<double> probe_values;
 };
 
 /// history.csv with a fixed header; every row is flushed so a crash keeps what was written.
@@ -29,14 +31,16 @@ class HistoryWriter {
  public:
   /// `append`: continue a file (a restart has cut it back to the checkpoint), no new header.
   /// `level_columns` > 0 (time.multirate: time.max_levels) adds particles_level_0, ... after the
-  /// momentum.
-  explicit HistoryWriter(const std::string& path, bool append = false, int level_columns = 0);
+  /// momentum; `probe_columns` (output.probes) come last.
+  explicit HistoryWriter(const std::string& path, bool append = false, int level_columns = 0,
+                         std::vector<std::string> probe_columns = {});
   void write(const HistoryRow& row);
   std::uint64_t bytes() { return bytes_written(out_); }
 
  private:
   std::ofstream out_;
   int level_columns_ = 0;
+  std::size_t probe_columns_ = 0;
 };
 
 /// One row of refinement.csv: what an event did and when.

@@ -17,6 +17,7 @@
 #include "engine/simulation.hpp"
 #include "tools/output/background_frames.hpp"
 #include "tools/output/frame_fields.hpp"
+#include "tools/output/probes.hpp"
 #include "tools/output/text_outputs.hpp"
 #include "tools/output/vtk_writer.hpp"
 #include "tools/run/checkpoints.hpp"
@@ -44,7 +45,15 @@ inline std::vector<std::string> output_field_names(const scene::Scene& s, const 
   return names;
 }
 
-inline io::HistoryRow history_row(const Simulation& sim, const Energies& e) {
+/// The scene's probes (output.probes) as the history writer takes them.
+inline std::vector<io::Probe> probes_of(const scene::Scene& s) {
+  std::vector<io::Probe> probes;
+  for (const auto& p : s.output.probes) probes.push_back({p.name, p.at});
+  return probes;
+}
+
+inline io::HistoryRow history_row(const Simulation& sim, const Energies& e,
+                                  const std::vector<io::Probe>& probes) {
   io::HistoryRow r;
   r.step = sim.steps_done();
   r.time = sim.time();
@@ -57,6 +66,7 @@ inline io::HistoryRow history_row(const Simulation& sim, const Energies& e) {
   r.external_work = e.external_work;
   for (int a = 0; a < 3; ++a) r.momentum[a] = e.momentum[a];
   r.particles_per_level = sim.particles_per_level();  // written when the history has the columns
+  r.probe_values = io::probe_values(sim.particles(), probes);
   return r;
 }
 
@@ -79,8 +89,9 @@ struct RunContext {
   io::BackgroundFrames frames;
   io::HistoryWriter history;
   std::vector<std::string> fields;
-  CrackHook* cracks = nullptr;     ///< with `measure` only
-  RefinementHook* hook = nullptr;  ///< with `effects.refinement` only
+  std::vector<io::Probe> probes{};  ///< output.probes, columns of history.csv
+  CrackHook* cracks = nullptr;      ///< with `measure` only
+  RefinementHook* hook = nullptr;   ///< with `effects.refinement` only
   Schedule* schedule = nullptr;
   RunState* state = nullptr;  ///< what a checkpoint saves besides the simulation
   std::string scene_text{};   ///< checkpoint_scene_text of the scene
@@ -128,7 +139,7 @@ struct RunContext {
     sim.check_stable(e);  // throws before anything of this state is written
     {
       auto t = sim.timers().scope(Phase::Output);
-      history.write(history_row(sim, e));
+      history.write(history_row(sim, e, probes));
     }
     if (frame) write_frame();
     if (good.step < 0 || sim.steps_done() - good.step >= LastGood::kLastGoodEvery) keep_good();

@@ -296,12 +296,15 @@ RunContext open_outputs(const scene::Scene& s, Simulation& sim, const fs::path& 
   const auto frame_mode = team > 1 && team >= cores ? io::BackgroundFrames::Mode::Shared
                           : cores > 1               ? io::BackgroundFrames::Mode::Thread
                                                     : io::BackgroundFrames::Mode::Now;
-  RunContext ctx{s, sim,
+  RunContext ctx{s,
+                 sim,
                  io::BackgroundFrames(io::FrameSeries(dir.string(), s.name, materials, compression),
                                       frame_mode),
                  io::HistoryWriter((dir / "history.csv").string(), resumed,
-                                   run::reports_time_levels(s, sim) ? s.time.max_levels : 0),
-                 output_field_names(s, sim)};
+                                   run::reports_time_levels(s, sim) ? s.time.max_levels : 0,
+                                   io::probe_columns(run::probes_of(s), s.dimension)),
+                 output_field_names(s, sim),
+                 run::probes_of(s)};
   if (resumed) ctx.frames.resume(state.frames);
   ctx.state = &state;
   ctx.scene_text = checkpoint_scene_text(s);

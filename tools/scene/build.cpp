@@ -189,9 +189,10 @@ SimulationSetup build_setup(const Scene& s) {
 
 namespace {
 
-/// Every measured notch tip lies inside the body's bounding box (the particles' cells).
-void check_tips(const Scene& s, const ParticleStore& p) {
-  if (!s.measure) return;
+/// Every measured notch tip and every probe lies inside the body's bounding box (the particles'
+/// cells).
+void check_points_inside(const Scene& s, const ParticleStore& p) {
+  if (!s.measure && s.output.probes.empty()) return;
   const int dim = s.dimension;
   geometry::Vec3 lo{0, 0, 0}, hi{0, 0, 0};
   for (int a = 0; a < dim; ++a) {
@@ -202,14 +203,18 @@ void check_tips(const Scene& s, const ParticleStore& p) {
       hi[a] = std::max(hi[a], p.reference_position[a][i] + 0.5 * p.spacing[i]);
     }
   }
-  const auto& tips = s.measure->settings.tips;
-  for (std::size_t k = 0; k < tips.size(); ++k)
+  const auto check = [&](const geometry::Vec3& at, const Location& where, const char* what) {
     for (int a = 0; a < dim; ++a)
-      if (tips[k].at[a] < lo[a] || tips[k].at[a] > hi[a])
-        fail(s.measure->tip_at[k],
-             fmt::format("the notch tip {} lies outside the body's bounding box",
-                         point_text(tips[k].at, dim)),
+      if (at[a] < lo[a] || at[a] > hi[a])
+        fail(where,
+             fmt::format("the {} {} lies outside the body's bounding box", what,
+                         point_text(at, dim)),
              fmt::format("{} to {}", point_text(lo, dim), point_text(hi, dim)));
+  };
+  if (s.measure)
+    for (std::size_t k = 0; k < s.measure->settings.tips.size(); ++k)
+      check(s.measure->settings.tips[k].at, s.measure->tip_at[k], "notch tip");
+  for (const auto& probe : s.output.probes) check(probe.at, probe.where, "probe");
 }
 
 /// Whether some other particle lies strictly inside i's horizon (the engine's neighbour search).
@@ -257,7 +262,7 @@ std::unique_ptr<Simulation> build_simulation(const Scene& s) {
     fail({s.time.where.file, s.time.where.line, "time.max_levels"}, e.what(),
          fmt::format("1 <= max_levels <= {}", kMaxTimeLevels));
   }
-  check_tips(s, sim->particles());
+  check_points_inside(s, sim->particles());
   check_lonely(s, *sim, part_of);
   const char* limit = sim->time_levels() ? "stable step of the coarsest particles (time.multirate)"
                                          : "stable time step";

@@ -167,6 +167,8 @@ std::optional<RefinementSpec> read_refinement(const Cursor& c, const Scene& s);
 
 /// The `measure` block (scene_measure.cpp); effects must already be read.
 MeasureSpec read_measure(const Cursor& c, const Scene& s);
+/// A name that is written as a CSV cell or column (a tip, a probe): letters, digits, '_', '.', '-'.
+std::string csv_name(const Cursor& c, std::string_view what);
 
 /// The `body` list (scene_body.cpp); materials must already be read.
 std::vector<BodyPart> read_body(const Cursor& c, const Scene& s);

@@ -221,7 +221,7 @@ void emit_time(YAML::Emitter& out, const TimeSpec& time) {
   out << YAML::EndMap;
 }
 
-void emit_output(YAML::Emitter& out, const OutputSpec& output) {
+void emit_output(YAML::Emitter& out, const OutputSpec& output, int dim) {
   out << YAML::Key << "output" << YAML::Value << YAML::BeginMap;
   out << YAML::Key << "directory" << YAML::Value << output.directory;
   if (output.every) out << YAML::Key << "every" << YAML::Value << *output.every;
@@ -232,6 +232,15 @@ void emit_output(YAML::Emitter& out, const OutputSpec& output) {
     out << YAML::Key << "checkpoint_every" << YAML::Value << *output.checkpoint_every;
   out << YAML::Key << "checkpoint_minutes" << YAML::Value << number_text(output.checkpoint_minutes);
   out << YAML::Key << "compression" << YAML::Value << output.compression;
+  if (!output.probes.empty()) {
+    out << YAML::Key << "probes" << YAML::Value << YAML::BeginSeq;
+    for (const auto& probe : output.probes) {
+      out << YAML::Flow << YAML::BeginMap << YAML::Key << "name" << YAML::Value << probe.name;
+      emit_key_point(out, "at", probe.at, dim);
+      out << YAML::EndMap;
+    }
+    out << YAML::EndSeq;
+  }
   out << YAML::EndMap;
 }
 
@@ -364,7 +373,7 @@ std::string resolved_yaml(const Scene& s) {
   }
   emit_effects(out, s);
   emit_time(out, s.time);
-  emit_output(out, s.output);
+  emit_output(out, s.output, s.dimension);
   emit_measure(out, s);
   out << YAML::EndMap;
   return std::string(out.c_str()) + "\n";

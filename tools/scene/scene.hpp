@@ -102,6 +102,13 @@ struct TimeSpec {
   Location where;      ///< of the `time` map (dt checks refer to time.dt)
 };
 
+/// A point whose particle's displacement and velocity history.csv follows (`output.probes`).
+struct ProbeSpec {
+  std::string name;
+  geometry::Vec3 at{0, 0, 0};
+  Location where;  ///< of its `at` (checked against the body once it is built)
+};
+
 struct OutputSpec {
   std::string directory = "out";
   std::optional<std::int64_t> every;   ///< write a frame every N steps, or
@@ -116,6 +123,7 @@ struct OutputSpec {
   double checkpoint_minutes = 10.0;
   /// How frames are compressed: "lz4" (default), "zlib" or "none" (docs/outputs.md).
   std::string compression = "lz4";
+  std::vector<ProbeSpec> probes;  ///< columns NAME_ux ... NAME_vz of history.csv
 };
 
 /// `effects.refinement` (docs/scenes.md): absent or `false` means no refiner at all.

@@ -238,9 +238,31 @@ std::vector<std::string> read_fields(const Cursor& c) {
   return fields;
 }
 
-OutputSpec read_output(const Cursor& c) {
+/// `output.probes`: named points whose nearest particle history.csv follows.
+std::vector<ProbeSpec> read_probes(const Cursor& c, int dim) {
+  std::vector<ProbeSpec> probes;
+  std::vector<int> name_lines;
+  for (const auto& item : c.list()) {
+    const MapView map(item, {"name", "at"});
+    const Cursor name = map.require("name");
+    ProbeSpec probe;
+    probe.name = detail::csv_name(name, "probe");
+    for (std::size_t k = 0; k < probes.size(); ++k)
+      if (probes[k].name == probe.name)
+        name.fail(fmt::format("duplicate probe name '{}' (first given on line {})", probe.name,
+                              name_lines[k]));
+    name_lines.push_back(name.where().line);
+    const Cursor at = map.require("at");
+    probe.at = at.point(dim);
+    probe.where = at.where();
+    probes.push_back(std::move(probe));
+  }
+  return probes;
+}
+
+OutputSpec read_output(const Cursor& c, int dim) {
   const MapView map(c, {"directory", "every", "frames", "fields", "history_every",
-                        "checkpoint_every", "checkpoint_minutes", "compression"});
+                        "checkpoint_every", "checkpoint_minutes", "compression", "probes"});
   OutputSpec out;
   if (const auto dir = map.get("directory")) {
     out.directory = dir->string();
@@ -266,6 +288,7 @@ OutputSpec read_output(const Cursor& c) {
     static const std::vector<std::string> kCompressions{"lz4", "zlib", "none"};
     out.compression = kCompressions[compression->choice(kCompressions, "compression")];
   }
+  if (const auto probes = map.get("probes")) out.probes = read_probes(*probes, dim);
   return out;
 }
 
@@ -306,7 +329,7 @@ Scene read_scene(const Cursor& root, const std::string& file) {
   s.time = read_time(top.require("time"));
   detail::check_state_family(top, s);
   if (const auto output = top.get("output")) {
-    s.output = read_output(*output);
+    s.output = read_output(*output, s.dimension);
   } else {
     s.output.frames = 20;
   }

@@ -9,6 +9,18 @@
 #include "tools/scene/detail.hpp"
 
 namespace dhpd::scene::detail {
+
+std::string csv_name(const Cursor& c, std::string_view what) {
+  const std::string name = c.string();
+  const bool valid = !name.empty() && std::all_of(name.begin(), name.end(), [](char ch) {
+    return std::isalnum(static_cast<unsigned char>(ch)) || ch == '_' || ch == '.' || ch == '-';
+  });
+  if (!valid)
+    c.fail(fmt::format("{} name '{}' cannot be written as a CSV cell or column", what, name),
+           "letters, digits, '_', '.', '-'");
+  return name;
+}
+
 namespace {
 
 double damage_threshold(const Cursor& c) {
@@ -17,17 +29,6 @@ double damage_threshold(const Cursor& c) {
     c.fail(fmt::format("damage_threshold must lie in (0, 1), got {}", c.text()),
            "0 < damage_threshold < 1");
   return value;
-}
-
-std::string tip_name(const Cursor& c) {
-  const std::string name = c.string();
-  const bool valid = !name.empty() && std::all_of(name.begin(), name.end(), [](char ch) {
-    return std::isalnum(static_cast<unsigned char>(ch)) || ch == '_' || ch == '.' || ch == '-';
-  });
-  if (!valid)
-    c.fail(fmt::format("tip name '{}' cannot be written as a cracks.csv cell", name),
-           "letters, digits, '_', '.', '-'");
-  return name;
 }
 
 void read_tips(const Cursor& c, int dim, MeasureSpec& spec) {
@@ -39,7 +40,7 @@ void read_tips(const Cursor& c, int dim, MeasureSpec& spec) {
     const MapView map(item, {"name", "at", "direction", "front", "region"});
     const Cursor name = map.require("name");
     measure::Tip tip;
-    tip.name = tip_name(name);
+    tip.name = csv_name(name, "tip");
     for (std::size_t k = 0; k < spec.settings.tips.size(); ++k)
       if (spec.settings.tips[k].name == tip.name)
         name.fail(names[k].line > 0
