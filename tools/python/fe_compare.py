@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """A dhpd run against a finite-element reference of tools/python/fe_reference.py:
 
-  fe_compare.py probe OUT REFERENCE.csv [--probe P]   u(t), v(t) of history.csv's probe P
+  fe_compare.py probe OUT REFERENCE.csv [--probe P] [--plot FILE.png]
+                                                      u(t), v(t) of history.csv's probe P
   fe_compare.py field OUT REFERENCE.csv               the last frame's displacement field
 
 prints a JSON map: the RMS difference of each component over the run (probe: at the history's
@@ -46,6 +47,26 @@ def probe_errors(out, reference, probe="P"):
     return result
 
 
+def plot_probe(out, reference, probe, path):
+    """u(t) and v(t) of the run's probe over the reference's, one panel each."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    _, ref = read_reference(reference)
+    with open(os.path.join(out, "history.csv")) as f:
+        rows = list(csv.DictReader(f))
+    t = [1e3 * float(r["time"]) for r in rows]
+    fig, axes = plt.subplots(2, 1, figsize=(8, 6), sharex=True)
+    for k, axis in enumerate("xy"):
+        axes[k].plot(t, [float(r[f"{probe}_u{axis}"]) for r in rows], label=f"dhpd ({out})")
+        axes[k].plot(1e3 * ref[:, 0], ref[:, k + 1], "k--", label="finite elements")
+        axes[k].set_ylabel(f"u_{axis} of {probe} (m)")
+        axes[k].legend()
+    axes[1].set_xlabel("time (ms)")
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+
+
 def last_frame(out):
     import vtk
     from vtk.util.numpy_support import vtk_to_numpy
@@ -80,7 +101,10 @@ def main():
     parser.add_argument("out")
     parser.add_argument("reference")
     parser.add_argument("--probe", default="P")
+    parser.add_argument("--plot", help="probe: also draw u(t), v(t) over the reference here")
     a = parser.parse_args()
+    if a.plot and a.kind == "probe":
+        plot_probe(a.out, a.reference, a.probe, a.plot)
     result = probe_errors(a.out, a.reference, a.probe) if a.kind == "probe" else field_errors(
         a.out, a.reference)
     print(json.dumps(result))
