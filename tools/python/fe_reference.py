@@ -76,7 +76,7 @@ def field_points(hole):
     return [(x, y) for y in line for x in line if not (abs(x) < hole / 2 and abs(y) < hole / 2)]
 
 
-def write_deck(path, nodes, elements):
+def write_deck(path, nodes, elements, nu):
     """The CalculiX deck that assembles K and M (*FREQUENCY, SOLVER=MATRIXSTORAGE): the upper half
     of the plate's thickness (z from 0 to THICKNESS/2), one layer of C3D8I (incompatible modes: no
     shear locking in in-plane bending), u_z = 0 on the mid-plane z = 0 (symmetry), the top face
@@ -102,7 +102,7 @@ def write_deck(path, nodes, elements):
         left = [ids[c] for c, (x, _) in nodes.items() if abs(x + HALF) < 1e-12]
         write_set(f, "LEFT", left + [n + top for n in left])
         write_set(f, "MID", sorted(ids.values()))
-        f.write(f"*MATERIAL, NAME=STEEL\n*ELASTIC\n{E:.6g}, {NU}\n*DENSITY\n{RHO}\n")
+        f.write(f"*MATERIAL, NAME=STEEL\n*ELASTIC\n{E:.6g}, {nu}\n*DENSITY\n{RHO}\n")
         f.write("*SOLID SECTION, ELSET=PLATE, MATERIAL=STEEL\n")
         f.write("*BOUNDARY\nLEFT, 1, 2\nMID, 3, 3\n")
         f.write("*STEP\n*FREQUENCY, SOLVER=MATRIXSTORAGE\n*END STEP\n")
@@ -128,7 +128,7 @@ def read_matrices(work):
     return matrix("plate.sti"), matrix("plate.mas"), dofs
 
 
-def initial_field(dofs, coordinates):
+def initial_field(dofs, coordinates, nu):
     """u0 per equation: ε (x + 0.5) along x, 0 along y, −ν/(1−ν) ε z through the thickness (the
     plane-stress strain state with σ_zz = 0); 0 for CalculiX's incompatible-mode unknowns."""
     u0 = np.zeros(len(dofs))
@@ -137,7 +137,7 @@ def initial_field(dofs, coordinates):
             continue
         x, _, z = coordinates[node]
         u0[k] = STRAIN * (x + HALF) if direction == 1 else (
-            -NU / (1 - NU) * STRAIN * z if direction == 3 else 0.0)
+            -nu / (1 - nu) * STRAIN * z if direction == 3 else 0.0)
     return u0
 
 
@@ -185,34 +185,40 @@ def main():
     parser.add_argument("--keep", help="keep the deck and CalculiX's files in this folder")
     parser.add_argument("--nu", type=float, default=NU, help="Poisson's ratio (checks only)")
     a = parser.parse_args()
-    globals()["NU"] = a.nu
     hole, end, with_field = CASES[a.case]
+    at = field_points(hole) if with_field else [PROBE]
+    elements, energy, samples = solve(a, hole, end, at)
+    write_csv(a, hole, elements, energy, samples, at)
+
+
+def solve(a, hole, end, at):
+    """(element count, initial strain energy, [(t, [(ux, uy) at each of `at`])]): samples every
+    SAMPLE seconds for a probe, the last step only for a field."""
     nodes, elements = lattice(a.size, hole)
     work = a.keep or tempfile.mkdtemp(prefix="dhpd-fe-")
     os.makedirs(work, exist_ok=True)
-    ids, top = write_deck(os.path.join(work, "plate.inp"), nodes, elements)
+    ids, top = write_deck(os.path.join(work, "plate.inp"), nodes, elements, a.nu)
     run_calculix(work, "plate")
     K, M, dofs = read_matrices(work)
     if not a.keep:
         shutil.rmtree(work)
     coordinates = {ids[c]: (x, y, 0.0) for c, (x, y) in nodes.items()}
     coordinates.update({ids[c] + top: (x, y, THICKNESS / 2) for c, (x, y) in nodes.items()})
-    u0 = initial_field(dofs, coordinates)
+    u0 = initial_field(dofs, coordinates, a.nu)
     energy = 0.5 * u0 @ (K @ u0) * 2  # both halves of the thickness
-    if abs(energy - plane_stress_energy(hole)) > 1e-6 * energy:
+    if abs(energy - plane_stress_energy(hole, a.nu)) > 1e-6 * energy:
         sys.exit(f"fe_reference: initial strain energy {energy:.9g} J, plane stress "
-                 f"{plane_stress_energy(hole):.9g} J: the mesh or the matrices are wrong")
+                 f"{plane_stress_energy(hole, a.nu):.9g} J: the mesh or the matrices are wrong")
     equation = {d: k for k, d in enumerate(dofs)}
-    at = field_points(hole) if with_field else [PROBE]
     weights = [probe_weights(nodes, a.size, point) for point in at]
     rows = {c: (equation.get((ids[c], 1)), equation.get((ids[c], 2))) for w in weights for c in w}
     steps = int(round(end / a.dt))
     every = max(1, int(round(SAMPLE / a.dt)))
     samples = [(0.0, in_plane(u0, rows, weights))]
-    sample_due = lambda k: (k % every == 0 and not with_field) or k == steps
+    due = lambda k: (k % every == 0 and len(at) == 1) or k == steps
     newmark(K, M, -(K @ u0), a.dt, steps, lambda k, w: (
-        samples.append((k * a.dt, in_plane(u0 + w, rows, weights))) if sample_due(k) else None))
-    write_csv(a, hole, len(elements), energy, samples, at)
+        samples.append((k * a.dt, in_plane(u0 + w, rows, weights))) if due(k) else None))
+    return len(elements), energy, samples
 
 
 def in_plane(u, rows, weights):
@@ -222,16 +228,16 @@ def in_plane(u, rows, weights):
             for point in weights]
 
 
-def plane_stress_energy(hole):
+def plane_stress_energy(hole, nu):
     """½ σ:ε V of the initial uniaxial strain in plane stress, J."""
-    return E / (1 - NU**2) * STRAIN**2 / 2 * (1.0 - hole**2) * THICKNESS
+    return E / (1 - nu**2) * STRAIN**2 / 2 * (1.0 - hole**2) * THICKNESS
 
 
 def write_csv(a, hole, elements, energy, samples, at):
-    analytic = plane_stress_energy(hole)
+    analytic = plane_stress_energy(hole, a.nu)
     with open(a.out, "w") as f:
         f.write(f"# CalculiX {shutil.which('ccx')}: C3D8I, element size {a.size} m, {elements} "
-                f"elements; Newmark average acceleration, dt {a.dt} s; E {E:g} Pa, nu {NU}, "
+                f"elements; Newmark average acceleration, dt {a.dt} s; E {E:g} Pa, nu {a.nu}, "
                 f"rho {RHO}, strain {STRAIN}, hole {hole} m\n"
                 f"# initial strain energy {energy:.6g} J (plane stress {analytic:.6g} J)\n"
                 "# written by tools/python/fe_reference.py; time from the release\n")
