@@ -59,10 +59,10 @@ double Simulation::estimate_critical_dt() {
   const double bound = smallest(particle_dt_);
   // Lanczos needs M⁻¹K symmetric in the mass inner product: the classical variable-horizon model's
   // ghost forces make it not, so that model keeps the bound (docs/theory.md §9).
-  if (!state_based() && (setup_.stable_step == StableStepEstimate::ParticleBound ||
-                         !std::isfinite(bound) || setup_.model == ForceModel::ClassicalVariable))
+  if (!std::isfinite(bound) ||
+      (!state_based() && (setup_.stable_step == StableStepEstimate::ParticleBound ||
+                          setup_.model == ForceModel::ClassicalVariable)))
     return bound;
-  if (!std::isfinite(bound)) return bound;
   // After an edit that leaves the smallest per-particle bound where the last Lanczos estimate
   // found it (new particles like the stiffest ones already there), the top of the spectrum is
   // where it was: the estimate follows the bound's smallest value instead of iterating again

@@ -154,17 +154,16 @@ OrdinaryState::OrdinaryState(const BondRows& rows, const ParticleStore& p,
     deviatoric_coefficient_[i] = n * (n + 2.0) * moduli.shear / m;
   });
   // The factors only ever multiply the weights: each entry keeps the four products w h, w g of
-  // its own bond and of the other's (SurfaceFactors; all 1 without the correction).
-  SurfaceFactors f;
-  if (in.surface_correction) f = surface_factors(rows, p, in, m_, own_weight_);
-  own_dilatation_.resize(rows.flags.size());
-  dual_dilatation_.resize(rows.flags.size());
+  // its own bond and of the other's (SurfaceFactors; without the correction all four are w).
+  own_dilatation_ = own_weight_;
+  dual_dilatation_ = dual_weight_;
+  if (!in.surface_correction) return;
+  const SurfaceFactors f = surface_factors(rows, p, in, m_, own_weight_);
   for (std::size_t k = 0; k < rows.flags.size(); ++k) {
-    const bool corrected = in.surface_correction;
-    own_dilatation_[k] = own_weight_[k] * (corrected ? f.own_dilatation[k] : 1.0);
-    dual_dilatation_[k] = dual_weight_[k] * (corrected ? f.dual_dilatation[k] : 1.0);
-    own_weight_[k] *= corrected ? f.own_deviatoric[k] : 1.0;
-    dual_weight_[k] *= corrected ? f.dual_deviatoric[k] : 1.0;
+    own_dilatation_[k] *= f.own_dilatation[k];
+    dual_dilatation_[k] *= f.dual_dilatation[k];
+    own_weight_[k] *= f.own_deviatoric[k];
+    dual_weight_[k] *= f.dual_deviatoric[k];
   }
 }
 

@@ -296,15 +296,17 @@ RunContext open_outputs(const scene::Scene& s, Simulation& sim, const fs::path& 
   const auto frame_mode = team > 1 && team >= cores ? io::BackgroundFrames::Mode::Shared
                           : cores > 1               ? io::BackgroundFrames::Mode::Thread
                                                     : io::BackgroundFrames::Mode::Now;
+  auto probes = run::probes_of(s);
+  auto probe_columns = io::probe_columns(probes, s.dimension);
   RunContext ctx{s,
                  sim,
                  io::BackgroundFrames(io::FrameSeries(dir.string(), s.name, materials, compression),
                                       frame_mode),
                  io::HistoryWriter((dir / "history.csv").string(), resumed,
                                    run::reports_time_levels(s, sim) ? s.time.max_levels : 0,
-                                   io::probe_columns(run::probes_of(s), s.dimension)),
+                                   std::move(probe_columns)),
                  output_field_names(s, sim),
-                 run::probes_of(s)};
+                 std::move(probes)};
   if (resumed) ctx.frames.resume(state.frames);
   ctx.state = &state;
   ctx.scene_text = checkpoint_scene_text(s);
