@@ -34,8 +34,10 @@ Simulation::Simulation(SimulationSetup setup)
   }
   if (!std::isfinite(critical_dt_))
     throw InputError("no particle has a bond: the horizon factor or spacing is too small");
-  dt_ = setup_.fixed_dt.value_or(setup_.safety * critical_dt_);
+  dt_ = setup_.statics ? 1.0 / static_cast<double>(setup_.load_steps)
+                       : setup_.fixed_dt.value_or(setup_.safety * critical_dt_);
   loads_ = resolve_loads(setup_.boundary_conditions, p_);
+  apply_prescribed_displacement(loads_, load_factor(), p_);
   enforce_prescribed_velocity();
   compute_forces();
   if (setup_.effects.fracture)
@@ -159,9 +161,10 @@ void Simulation::compute_forces(bool with_fracture, std::vector<double>* row_ene
       internal_force_density(bonds_, p_, nullptr, row_energy, &kernel_points_, side);
   }
   auto t = timers_.scope(Phase::Loads);
+  const double lambda = load_factor();  // 1 in dynamics
   for (std::size_t k = 0; k < loads_.loaded.size(); ++k)
     for (int a = 0; a < p_.dim(); ++a)
-      p_.force_density[a][loads_.loaded[k]] += loads_.body_force[k][a];
+      p_.force_density[a][loads_.loaded[k]] += lambda * loads_.body_force[k][a];
 }
 
 void Simulation::enforce_prescribed_velocity() {
@@ -174,19 +177,27 @@ void Simulation::enforce_prescribed_velocity() {
 
 double Simulation::boundary_power() const {
   // A prescribed constant velocity needs a reaction −f_int (per volume) on each constrained
-  // component; its power is that reaction times the velocity.
+  // component; its power is that reaction times the velocity. In statics, the rate of work per
+  // unit load factor: the reaction times the full-load displacement (docs/theory.md §22).
   double power = 0.0;
   for (std::size_t k = 0; k < loads_.prescribed.size(); ++k) {
     const auto i = loads_.prescribed[k];
+    const Vec3& rate =
+        setup_.statics ? loads_.prescribed_displacement[k] : loads_.prescribed_velocity[k];
     for (int a = 0; a < p_.dim(); ++a)
-      if (loads_.mask[k][a])
-        power -= p_.force_density[a][i] * p_.volume[i] * loads_.prescribed_velocity[k][a];
+      if (loads_.mask[k][a]) power -= p_.force_density[a][i] * p_.volume[i] * rate[a];
   }
   return power;
 }
 
 void Simulation::step(StepExtras extras) {
   std::int64_t evaluated = bonds_.own_bonds;  // directed bonds evaluated by the step
+  if (setup_.statics) {
+    finish_step(static_step(extras));
+    time_ = load_factor();  // k / load_steps exactly, not a sum of steps
+    bond_updates_ += evaluated * (relaxation_report_.iterations + relaxation_report_.rounds + 1);
+    return;
+  }
   const double body_work = levels_ ? multirate_step(extras, evaluated) : verlet_step(extras);
   finish_step(body_work);
   bond_updates_ += evaluated;
@@ -317,7 +328,8 @@ ParticleSums particle_sums(const ParticleStore& p, const ResolvedLoads& loads, d
 
 Energies Simulation::energies() {
   auto t = timers_.scope(Phase::Diagnostics);
-  const auto sums = particle_sums(p_, loads_, dt_);
+  // A static state is at rest: no Verlet correction (its dt is a load increment).
+  const auto sums = particle_sums(p_, loads_, setup_.statics ? 0.0 : dt_);
   Energies e;
   for (int a = 0; a < 3; ++a) e.momentum[a] = sums.momentum[a];
   e.kinetic = sums.kinetic;
@@ -333,7 +345,9 @@ Energies Simulation::energies() {
 }
 
 double Simulation::verlet_correction() const {
-  return levels_ ? multirate_correction() : particle_sums(p_, loads_, dt_).correction;
+  return levels_          ? multirate_correction()
+         : setup_.statics ? 0.0
+                          : particle_sums(p_, loads_, dt_).correction;
 }
 
 void Simulation::check_stable(const Energies& e) const {

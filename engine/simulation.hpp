@@ -17,6 +17,7 @@
 #include "engine/physics/loads.hpp"
 #include "engine/physics/material_law.hpp"
 #include "engine/physics/ordinary_state.hpp"
+#include "engine/physics/relaxation.hpp"
 #include "engine/physics/stability_guard.hpp"
 #include "engine/physics/time_levels.hpp"
 #include "geometry/crack.hpp"
@@ -81,6 +82,10 @@ struct SimulationSetup {
   /// force there (interface_consistency.hpp; dual-horizon only). Off: the papers' DH-PD, whose
   /// level interfaces carry a force layer 0.5–0.8 times a free surface's (docs/theory.md §14).
   bool interface_correction = true;
+  /// Statics (docs/theory.md §22): each step() is a load step solved by adaptive dynamic
+  /// relaxation, at load factor k / load_steps; absent: explicit dynamics.
+  std::optional<StaticSolver> statics;
+  std::int64_t load_steps = 1;  ///< statics: steps to the full load
 };
 
 /// What an editor of the discretisation (refine/) changed, handed to Simulation::commit_edit.
@@ -141,6 +146,27 @@ class Simulation {
   void run_steps(std::int64_t n) {
     for (std::int64_t k = 0; k < n; ++k) step();
   }
+
+  /// A static run (SimulationSetup::statics): step() solves the next load step.
+  bool is_static() const { return setup_.statics.has_value(); }
+  /// The fraction of the loads applied: k / load_steps after static load step k (inside a load
+  /// step, the one it solves); 1 in dynamics.
+  double load_factor() const;
+  /// What the last static load step did.
+  struct RelaxationReport {
+    std::int64_t iterations = 0;  ///< ADR iterations, every round
+    int rounds = 0;               ///< relaxations (1 + those after bonds broke)
+    std::int64_t broken = 0;      ///< bonds broken in the load step
+    double residual = 0.0;        ///< |R| / |load| at the end
+    double damping = 0.0;         ///< c of the last iteration
+    /// (iteration, |R|/|load|, c) every trace_every iterations and at the end of each round.
+    struct Sample {
+      std::int64_t iteration = 0;
+      double residual = 0.0, damping = 0.0;
+    };
+    std::vector<Sample> trace;
+  };
+  const RelaxationReport& last_relaxation() const { return relaxation_report_; }
 
   /// Multi-rate stepping is allowed: time.multirate is not false and the model is conservative.
   bool multirate_enabled() const;
@@ -265,6 +291,15 @@ class Simulation {
                       const SideTask* side = nullptr);
   void enforce_prescribed_velocity();
   double boundary_power() const;
+  /// One static load step (simulation_static.cpp): the extras run first; returns the body
+  /// forces' work.
+  double static_step(const StepExtras& extras);
+  /// Relaxes the current load to the solver's tolerance (one round); returns the iterations.
+  std::int64_t relax(RelaxationState& state);
+  /// τ_i² of adaptive dynamic relaxation for the current rows (Lanczos on D⁻¹K).
+  std::vector<double> relaxation_steps() const;
+  /// Σ over the body forces and held components of |V F|², at the current load factor.
+  double load_norm2(const ResidualNorms& norms) const;
   /// One velocity-Verlet step of every particle; returns the body forces' work.
   double verlet_step(const StepExtras& extras);
   /// One dt₀ step of the multi-rate scheme (simulation_multirate.cpp); returns the body forces'
@@ -292,8 +327,10 @@ class Simulation {
   /// Δt_crit of the current rows by setup_.stable_step (particle_dt_ must be current); not below
   /// the per-particle bound. Keeps the last Lanczos estimate and the bound it was made at.
   double estimate_critical_dt();
-  /// The Lanczos step of the state-based model's linearised stiffness (docs/theory.md §20.3).
-  double state_lanczos_dt() const;
+  /// The Lanczos step of the state-based model's linearised stiffness (docs/theory.md §20.3),
+  /// with the densities of `masses` (by default the particles').
+  double state_lanczos_dt() const { return state_lanczos_dt(p_); }
+  double state_lanczos_dt(const ParticleStore& masses) const;
   /// Energies::verlet_correction of the current state (a pass over particles, not bonds).
   double verlet_correction() const;
 
@@ -345,6 +382,8 @@ class Simulation {
   FusedEnergy fused_energy_;
   std::int64_t steps_ = 0, broken_ = 0, bond_updates_ = 0;
   std::int64_t generation_ = 0;
+  bool solving_load_step_ = false;      ///< inside static_step (load_factor of the next step)
+  RelaxationReport relaxation_report_;  ///< not archived: the last load step's
   std::int32_t next_id_ = 0;
   InterfaceCorrection initial_interfaces_;
 };

@@ -18,13 +18,13 @@ void Simulation::build_state_model() {
                           &setup_.materials, setup_.surface_correction});
 }
 
-double Simulation::state_lanczos_dt() const {
+double Simulation::state_lanczos_dt(const ParticleStore& masses) const {
   if (correspondence_) {
     Correspondence model = *correspondence_;  // its passes overwrite the state they keep
     const auto apply = [&](const std::vector<double>& u, std::vector<double>& out) {
-      model.stiffness_times(bonds_, p_, u, out);
+      model.stiffness_times(bonds_, masses, u, out);
     };
-    return lanczos_stable_step(apply, p_, 80, 1e-4, &particle_dt_).dt;
+    return lanczos_stable_step(apply, masses, 80, 1e-4, &particle_dt_).dt;
   }
   // The classical variable-horizon model's operator is not symmetric (ghost forces): its step is
   // that of the dual-horizon model on the same particles, which it equals where horizons agree.
@@ -36,9 +36,9 @@ double Simulation::state_lanczos_dt() const {
                             setup_.influence, &setup_.materials, setup_.surface_correction});
   OrdinaryState model = dual ? std::move(*dual) : *state_;
   const auto apply = [&](const std::vector<double>& u, std::vector<double>& out) {
-    model.stiffness_times(bonds_, p_, u, out);
+    model.stiffness_times(bonds_, masses, u, out);
   };
-  return lanczos_stable_step(apply, p_, 80, 1e-4, &particle_dt_).dt;
+  return lanczos_stable_step(apply, masses, 80, 1e-4, &particle_dt_).dt;
 }
 
 }  // namespace dhpd

@@ -218,9 +218,9 @@ CheckpointParts decode_checkpoint(std::span<const std::byte> bytes, const std::s
   const auto version = read_at<std::uint32_t>(bytes, 8);
   if (read_at<std::uint32_t>(bytes, 12) != kByteOrderMark)
     refuse("it was written on a machine of the other byte order");
-  if (version != kCheckpointVersion && version != kUncompressedVersion)
-    refuse(fmt::format("format version {}, this dhpd reads versions {} and {}", version,
-                       kUncompressedVersion, kCheckpointVersion));
+  if (version != kCheckpointVersion)
+    refuse(
+        fmt::format("format version {}, this dhpd reads version {}", version, kCheckpointVersion));
   const auto length = read_at<std::uint64_t>(bytes, 16);
   if (length != bytes.size() - kHeaderBytes)
     refuse(fmt::format("it is truncated or has extra bytes ({} payload bytes, the header says {})",
@@ -228,7 +228,6 @@ CheckpointParts decode_checkpoint(std::span<const std::byte> bytes, const std::s
   const auto payload = bytes.subspan(kHeaderBytes);
   if (archive::checksum(payload) != read_at<std::uint64_t>(bytes, 24))
     refuse("the checksum does not match (the file is corrupted)");
-  if (version == kUncompressedVersion) return parse_payload(payload, source);
   auto inflated =
       std::make_shared<const std::vector<std::byte>>(archive::inflate_blocks(payload, source));
   auto parts = parse_payload(*inflated, source);

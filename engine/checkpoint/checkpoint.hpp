@@ -25,9 +25,9 @@ namespace dhpd {
 // 5: the bond rows are the only bond store (no bond list or dual lists), stiffness in float;
 // 6: the rows are built again from the particles on loading: only each row's entry count, the
 //    entries' flags and factors (row order) and the stiffness scale are stored;
-// 7: the payload in LZ4 blocks (version 6 files are still read: the payload is the same).
-constexpr std::uint32_t kCheckpointVersion = 7;
-constexpr std::uint32_t kUncompressedVersion = 6;
+// 7: the payload in LZ4 blocks;
+// 8: the loads hold each prescribed entry's displacement (static runs, displacement conditions).
+constexpr std::uint32_t kCheckpointVersion = 8;
 
 /// The in-memory snapshot of a simulation (every array as it is, row arenas included).
 std::vector<std::byte> save_simulation(const Simulation& sim);

@@ -21,7 +21,8 @@ struct CheckpointAccess {
   template <class Sim, class Ar>
   static void loads_and_constants(Sim& s, Ar& ar) {
     auto& l = s.loads_;
-    ar(l.prescribed), ar(l.mask), ar(l.prescribed_velocity), ar(l.loaded), ar(l.body_force);
+    ar(l.prescribed), ar(l.mask), ar(l.prescribed_velocity), ar(l.prescribed_displacement);
+    ar(l.loaded), ar(l.body_force);
     ar(l.condition_body_force);
     ar(s.C_), ar(s.s0_), ar(s.particle_dt_);
     ar(s.reach_), ar(s.max_horizon_), ar(s.appended_since_compaction_), ar(s.layout_version_);
@@ -263,6 +264,7 @@ struct CheckpointAccess {
                     b.stiffness_scale > 0.0 && in_range(l.prescribed, 0, n) &&
                     in_range(l.loaded, 0, n) && l.mask.size() == l.prescribed.size() &&
                     l.prescribed_velocity.size() == l.prescribed.size() &&
+                    l.prescribed_displacement.size() == l.prescribed.size() &&
                     l.body_force.size() == l.loaded.size();
     if (!ok) ar.fail("its bond-row or load arrays do not fit together");
   }

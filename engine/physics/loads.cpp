@@ -1,5 +1,6 @@
 // Initial and boundary conditions. A traction t on a layer of depth d becomes b = t/d, so the total
-// force equals t × (loaded face area) on a lattice (the usual PD fictitious-layer treatment).
+// force equals t × (loaded face area) on a lattice: a body force on a boundary layer inside the
+// body, not the fictitious-layer treatment of the papers (no particles outside the body).
 #include "engine/physics/loads.hpp"
 
 #include <algorithm>
@@ -56,14 +57,16 @@ namespace {
 /// Which components a velocity or fixed condition prescribes, and to what.
 void prescribe(ResolvedLoads& r, const BoundaryCondition& bc, std::int32_t i, int dim) {
   std::array<std::uint8_t, 3> m{0, 0, 0};
-  Vec3 v{0, 0, 0};
+  Vec3 v{0, 0, 0}, u{0, 0, 0};
   for (int a = 0; a < std::min(dim, 3); ++a) {
     const bool fixed = bc.kind == BoundaryCondition::Kind::Fixed;
     if (fixed || bc.velocity[a]) m[a] = 1, v[a] = fixed ? 0.0 : *bc.velocity[a];
+    if (bc.displacement[a]) m[a] = kHeldAt, u[a] = *bc.displacement[a];
   }
   r.prescribed.push_back(i);
   r.mask.push_back(m);
   r.prescribed_velocity.push_back(v);
+  r.prescribed_displacement.push_back(u);
 }
 
 void add_entry(ResolvedLoads& r, const BoundaryCondition& bc, std::size_t c, std::int32_t i,
@@ -124,6 +127,7 @@ void inherit_loads(ResolvedLoads& r, const std::vector<std::int32_t>& successor,
       r.prescribed.push_back(successor[c]);
       r.mask.push_back(r.mask[e->second]);
       r.prescribed_velocity.push_back(r.prescribed_velocity[e->second]);
+      r.prescribed_displacement.push_back(r.prescribed_displacement[e->second]);
     }
   }
 }
@@ -131,6 +135,30 @@ void inherit_loads(ResolvedLoads& r, const std::vector<std::int32_t>& successor,
 void renumber_loads(ResolvedLoads& r, const std::vector<std::int32_t>& new_index) {
   for (auto& i : r.loaded) i = new_index[static_cast<std::size_t>(i)];
   for (auto& i : r.prescribed) i = new_index[static_cast<std::size_t>(i)];
+}
+
+void apply_prescribed_displacement(const ResolvedLoads& loads, double factor, ParticleStore& p) {
+  for (std::size_t k = 0; k < loads.prescribed.size(); ++k) {
+    const auto i = static_cast<std::size_t>(loads.prescribed[k]);
+    for (int a = 0; a < p.dim(); ++a) {
+      if (loads.mask[k][a] != kHeldAt) continue;
+      p.displacement[a][i] = factor * loads.prescribed_displacement[k][a];
+      p.position[a][i] = p.reference_position[a][i] + p.displacement[a][i];
+    }
+  }
+}
+
+Vec3 reaction_force(const ResolvedLoads& loads, const ParticleStore& p,
+                    const geometry::Shape& region) {
+  Vec3 r{0, 0, 0};
+  const auto& X = p.reference_position;
+  for (std::size_t k = 0; k < loads.prescribed.size(); ++k) {
+    const auto i = static_cast<std::size_t>(loads.prescribed[k]);
+    if (!region.contains({X[0][i], X[1][i], X[2][i]}, p.dim())) continue;
+    for (int a = 0; a < p.dim(); ++a)
+      if (loads.mask[k][a]) r[a] -= p.volume[i] * p.force_density[a][i];
+  }
+  return r;
 }
 
 std::vector<std::uint8_t> prescribed_axes(const ResolvedLoads& loads, std::size_t n) {

@@ -25,19 +25,29 @@ struct InitialCondition {
 };
 
 struct BoundaryCondition {
-  enum class Kind { Velocity, Fixed, Traction };
+  enum class Kind { Velocity, Fixed, Traction, Displacement };
   Kind kind = Kind::Fixed;
   geometry::Shape region;
   std::array<std::optional<double>, 3> velocity;  ///< prescribed components (Velocity)
+  /// Prescribed components (Displacement), m: held there (dynamics), or reached in proportion to
+  /// the load factor (statics, docs/theory.md §22).
+  std::array<std::optional<double>, 3> displacement;
   Vec3 traction{0, 0, 0};  ///< Pa, spread as a body force over the layer (Traction)
   int normal_axis = 0;     ///< axis normal to the loaded face (Traction)
 };
+
+/// ResolvedLoads::mask of a component held at a prescribed displacement (any non-zero value means
+/// prescribed; 1 is a prescribed velocity, zero for fixed conditions).
+inline constexpr std::uint8_t kHeldAt = 2;
 
 /// Boundary conditions bound to particle indices for one particle numbering.
 struct ResolvedLoads {
   std::vector<std::int32_t> prescribed;           ///< particles with prescribed velocity
   std::vector<std::array<std::uint8_t, 3>> mask;  ///< which components are prescribed
   std::vector<Vec3> prescribed_velocity;
+  /// Per prescribed entry: the displacement its components are held at under the full load (0
+  /// for fixed and velocity conditions).
+  std::vector<Vec3> prescribed_displacement;
   std::vector<std::int32_t> loaded;  ///< particles carrying a body force
   std::vector<Vec3> body_force;      ///< N/m³
   /// Per condition: the body force of a traction (fixed when resolved: the loaded layer keeps its
@@ -62,6 +72,15 @@ void inherit_loads(ResolvedLoads& loads, const std::vector<std::int32_t>& succes
 
 /// Renumbers every entry: particle i becomes new_index[i].
 void renumber_loads(ResolvedLoads& loads, const std::vector<std::int32_t>& new_index);
+
+/// Sets the prescribed components' displacement to `factor` × their prescribed displacement
+/// (positions follow); velocity conditions are left alone.
+void apply_prescribed_displacement(const ResolvedLoads& loads, double factor, ParticleStore& p);
+
+/// The force the held components of the particles inside `region` take from their supports:
+/// −Σ V f over those components (f the force density with body forces), N.
+Vec3 reaction_force(const ResolvedLoads& loads, const ParticleStore& p,
+                    const geometry::Shape& region);
 
 /// Per particle of `n`: bit a set when axis a has a prescribed velocity.
 std::vector<std::uint8_t> prescribed_axes(const ResolvedLoads& loads, std::size_t n);

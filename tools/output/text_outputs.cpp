@@ -55,18 +55,6 @@ std::uint64_t bytes_written(std::ofstream& out) {
   return static_cast<std::uint64_t>(at);
 }
 
-namespace {
-
-constexpr const char* kRefinementHeader =
-    "generation,step,time,parents,children,dropped,particles,bonds,rows_rebuilt,bonds_rebuilt,"
-    "rows_touched,started_broken,started_overstretched,mapping_energy,reduced_fits,dt,seconds,"
-    "resorted,resort_seconds";
-
-constexpr const char* kCracksHeader =
-    "step,time,tip,x,y,z,distance,path_length,speed,angle_deg,branches";
-
-/// A CSV file with its header written and flushed, or opened at its end to continue it; `what`
-/// names it in errors.
 std::ofstream open_csv(const std::string& path, const char* header, const char* what, bool append) {
   errno = 0;
   std::ofstream out(path, append ? std::ios::app | std::ios::ate : std::ios::trunc);
@@ -80,7 +68,6 @@ std::ofstream open_csv(const std::string& path, const char* header, const char* 
   return out;
 }
 
-/// Appends one row and flushes it, so a crash keeps every row written before.
 void write_row(std::ofstream& out, const std::string& row, const char* what) {
   errno = 0;
   out << row;
@@ -89,6 +76,16 @@ void write_row(std::ofstream& out, const std::string& row, const char* what) {
     throw IoError(fmt::format("cannot write a row of {}.csv: {}", what,
                               errno ? std::strerror(errno) : "the stream failed"));
 }
+
+namespace {
+
+constexpr const char* kRefinementHeader =
+    "generation,step,time,parents,children,dropped,particles,bonds,rows_rebuilt,bonds_rebuilt,"
+    "rows_touched,started_broken,started_overstretched,mapping_energy,reduced_fits,dt,seconds,"
+    "resorted,resort_seconds";
+
+constexpr const char* kCracksHeader =
+    "step,time,tip,x,y,z,distance,path_length,speed,angle_deg,branches";
 
 nlohmann::ordered_json optional_number(const std::optional<double>& v) {
   return v ? nlohmann::ordered_json(*v) : nlohmann::ordered_json(nullptr);

@@ -13,6 +13,11 @@ namespace dhpd::io {
 
 /// The length of a CSV file as written so far (every row is flushed).
 std::uint64_t bytes_written(std::ofstream& out);
+/// A CSV file with its header written and flushed, or opened at its end to continue it; `what`
+/// names it in errors (IoError).
+std::ofstream open_csv(const std::string& path, const char* header, const char* what, bool append);
+/// Appends one row and flushes it, so a crash keeps every row written before.
+void write_row(std::ofstream& out, const std::string& row, const char* what);
 
 struct HistoryRow {
   std::int64_t step = 0;

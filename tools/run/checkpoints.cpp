@@ -18,7 +18,7 @@ namespace fs = std::filesystem;
 template <class State, class Ar>
 void run_fields(State& s, Ar& ar) {
   ar(s.planned_steps), ar(s.schedule_position), ar(s.frames);
-  ar(s.history_bytes), ar(s.refinement_bytes), ar(s.cracks_bytes);
+  ar(s.history_bytes), ar(s.refinement_bytes), ar(s.cracks_bytes), ar(s.relaxation_bytes);
   ar(s.refinement_events), ar(s.particles_start), ar(s.wall_seconds), ar(s.rayleigh_speed);
   ar(s.derived_text);
 }

@@ -23,6 +23,7 @@ struct RunState {
   std::uint64_t schedule_position = 0;  ///< frames or frame times of the schedule already due
   std::vector<std::pair<double, std::string>> frames;  ///< (time, file) of the .pvd
   std::uint64_t history_bytes = 0, refinement_bytes = 0, cracks_bytes = 0;
+  std::uint64_t relaxation_bytes = 0;  ///< relaxation.csv of a static run
   std::int64_t refinement_events = 0, particles_start = 0;
   double wall_seconds = 0.0;  ///< of the runs before this one
   double rayleigh_speed = 0.0;

@@ -18,6 +18,7 @@
 #include "tools/output/background_frames.hpp"
 #include "tools/output/frame_fields.hpp"
 #include "tools/output/probes.hpp"
+#include "tools/output/static_outputs.hpp"
 #include "tools/output/text_outputs.hpp"
 #include "tools/output/vtk_writer.hpp"
 #include "tools/run/checkpoints.hpp"
@@ -52,7 +53,8 @@ inline std::vector<io::Probe> probes_of(const scene::Scene& s) {
   return probes;
 }
 
-inline io::HistoryRow history_row(const Simulation& sim, const Energies& e,
+/// A history row; a static run's columns (io::static_columns) come before the probes'.
+inline io::HistoryRow history_row(const scene::Scene& s, const Simulation& sim, const Energies& e,
                                   const std::vector<io::Probe>& probes) {
   io::HistoryRow r;
   r.step = sim.steps_done();
@@ -66,7 +68,8 @@ inline io::HistoryRow history_row(const Simulation& sim, const Energies& e,
   r.external_work = e.external_work;
   for (int a = 0; a < 3; ++a) r.momentum[a] = e.momentum[a];
   r.particles_per_level = sim.particles_per_level();  // written when the history has the columns
-  r.probe_values = io::probe_values(sim.particles(), probes);
+  r.probe_values = io::static_values(s, sim);
+  for (const double v : io::probe_values(sim.particles(), probes)) r.probe_values.push_back(v);
   return r;
 }
 
@@ -92,6 +95,8 @@ struct RunContext {
   std::vector<io::Probe> probes{};  ///< output.probes, columns of history.csv
   CrackHook* cracks = nullptr;      ///< with `measure` only
   RefinementHook* hook = nullptr;   ///< with `effects.refinement` only
+  /// relaxation.csv of a static run (solver: static) only.
+  std::unique_ptr<io::RelaxationWriter> relaxation{};
   Schedule* schedule = nullptr;
   RunState* state = nullptr;  ///< what a checkpoint saves besides the simulation
   std::string scene_text{};   ///< checkpoint_scene_text of the scene
@@ -139,7 +144,7 @@ struct RunContext {
     sim.check_stable(e);  // throws before anything of this state is written
     {
       auto t = sim.timers().scope(Phase::Output);
-      history.write(history_row(sim, e, probes));
+      history.write(history_row(scene, sim, e, probes));
     }
     if (frame) write_frame();
     if (good.step < 0 || sim.steps_done() - good.step >= LastGood::kLastGoodEvery) keep_good();
@@ -160,6 +165,7 @@ struct RunContext {
     st.history_bytes = history.bytes();
     st.refinement_bytes = hook ? hook->csv->bytes() : 0;
     st.cracks_bytes = cracks ? cracks->csv.bytes() : 0;
+    st.relaxation_bytes = relaxation ? relaxation->bytes() : 0;
     st.refinement_events = hook ? hook->events : 0;
     st.wall_seconds = wall_before + elapsed();
     return st;

@@ -129,6 +129,19 @@ std::string restart_hint(const RunContext& ctx) {
                           name, k, kept, again));
 }
 
+/// After a static load step: its relaxation trace, and a line in the log.
+void log_load_step(RunContext& ctx) {
+  const auto& sim = ctx.sim;
+  ctx.relaxation->write(sim);
+  const auto& r = sim.last_relaxation();
+  ctx.log->line(fmt::format(
+      "dhpd: load step {} of {} (load factor {:.6g}): {} iterations in {} relaxation{}, "
+      "residual {:.3g} of the load{}",
+      sim.steps_done(), ctx.state->planned_steps, sim.load_factor(), r.iterations, r.rounds,
+      r.rounds == 1 ? "" : "s", r.residual,
+      r.broken > 0 ? fmt::format(", {} bonds broke", r.broken) : std::string()));
+}
+
 /// Steps until the schedule says the run is over; refinement checks after each due step, crack
 /// measurements at step 0, every `measure.every` steps and at the last step; checkpoints every
 /// output.checkpoint_every steps and at the end. A restarted run starts after its checkpoint.
@@ -185,6 +198,7 @@ void time_loop(RunContext& ctx, io::Progress& progress) {
                 .before_change = frame_copy || crack_copy ? &copies : nullptr});
       if (ctx.cracks) ctx.cracks->flush();
     }
+    if (ctx.relaxation) log_load_step(ctx);
     // A signal already caught starts no refinement event: the run stops after this step.
     if (hook && hook->refiner.due(k, sim) && !signals.caught()) {
       try {
@@ -220,6 +234,7 @@ std::vector<CsvLength> csv_lengths(const scene::Scene& s, const RunState& st) {
   std::vector<CsvLength> out{{"history.csv", st.history_bytes}};
   if (s.refinement) out.push_back({"refinement.csv", st.refinement_bytes});
   if (s.measure) out.push_back({"cracks.csv", st.cracks_bytes});
+  if (s.statics) out.push_back({"relaxation.csv", st.relaxation_bytes});
   return out;
 }
 
@@ -297,7 +312,8 @@ RunContext open_outputs(const scene::Scene& s, Simulation& sim, const fs::path& 
                           : cores > 1               ? io::BackgroundFrames::Mode::Thread
                                                     : io::BackgroundFrames::Mode::Now;
   auto probes = run::probes_of(s);
-  auto probe_columns = io::probe_columns(probes, s.dimension);
+  auto probe_columns = io::static_columns(s);
+  for (auto& column : io::probe_columns(probes, s.dimension)) probe_columns.push_back(column);
   RunContext ctx{s,
                  sim,
                  io::BackgroundFrames(io::FrameSeries(dir.string(), s.name, materials, compression),
@@ -308,6 +324,9 @@ RunContext open_outputs(const scene::Scene& s, Simulation& sim, const fs::path& 
                  output_field_names(s, sim),
                  std::move(probes)};
   if (resumed) ctx.frames.resume(state.frames);
+  if (s.statics)
+    ctx.relaxation =
+        std::make_unique<io::RelaxationWriter>((dir / "relaxation.csv").string(), resumed);
   ctx.state = &state;
   ctx.scene_text = checkpoint_scene_text(s);
   ctx.checkpoint_file = dir / "checkpoint.bin";

@@ -162,6 +162,11 @@ void read_model(const MapView& top, Scene& s);
 /// and time must already be read.
 void check_state_family(const MapView& top, const Scene& s);
 
+/// `solver` (sections/solver.cpp): dynamic, static or {type, tolerance, ...}; and what a static
+/// run refuses (time.end, time.dt, levels, refinement, velocity conditions, classical variable).
+void read_solver(const MapView& top, Scene& s);
+void check_static_solver(const MapView& top, const Scene& s);
+
 /// `effects.refinement` (scene_refinement.cpp); body and model must already be read.
 std::optional<RefinementSpec> read_refinement(const Cursor& c, const Scene& s);
 

@@ -252,7 +252,9 @@ ResourceEstimate estimate_resources(const Scene& s) {
   if (finest > 0) {
     const double h = finest / std::pow(2.0, zone_levels);
     e.stable_dt = interior_stable_dt(s, probe, h, c.coarsest, sums);
-    e.dt = s.time.dt.value_or(s.time.safety * e.stable_dt);
+    // A static run's dt is its load increment (docs/theory.md §22).
+    e.dt = s.statics ? 1.0 / static_cast<double>(s.time.steps.value_or(1))
+                     : s.time.dt.value_or(s.time.safety * e.stable_dt);
     const double worst_dt =
         s.time.dt ? *s.time.dt : e.dt / std::pow(2.0, triggers ? levels - zone_levels : 0);
     e.steps = s.time.steps ? double(*s.time.steps) : std::ceil(*s.time.end / e.dt);

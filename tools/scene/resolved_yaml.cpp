@@ -189,12 +189,16 @@ void emit_boundary_condition(YAML::Emitter& out, const BoundaryCondition& bc, in
   emit_region(out, bc.region, dim);
   switch (bc.kind) {
     case BoundaryCondition::Kind::Velocity:
-      out << YAML::Key << "velocity" << YAML::Value << YAML::Flow << YAML::BeginMap;
+    case BoundaryCondition::Kind::Displacement: {
+      const bool velocity = bc.kind == BoundaryCondition::Kind::Velocity;
+      const auto& held = velocity ? bc.velocity : bc.displacement;
+      out << YAML::Key << (velocity ? "velocity" : "displacement") << YAML::Value << YAML::Flow
+          << YAML::BeginMap;
       for (int a = 0; a < dim; ++a)
-        if (bc.velocity[a])
-          out << YAML::Key << axes[a] << YAML::Value << number_text(*bc.velocity[a]);
+        if (held[a]) out << YAML::Key << axes[a] << YAML::Value << number_text(*held[a]);
       out << YAML::EndMap;
       break;
+    }
     case BoundaryCondition::Kind::Fixed:
       out << YAML::Key << "fixed" << YAML::Value << true;
       break;
@@ -219,6 +223,21 @@ void emit_time(YAML::Emitter& out, const TimeSpec& time) {
   if (time.multirate) out << YAML::Key << "multirate" << YAML::Value << *time.multirate;
   out << YAML::Key << "max_levels" << YAML::Value << time.max_levels;
   out << YAML::EndMap;
+}
+
+void emit_solver(YAML::Emitter& out, const Scene& s) {
+  out << YAML::Key << "solver" << YAML::Value;
+  if (!s.statics) {
+    out << "dynamic";
+    return;
+  }
+  const auto& solver = *s.statics;
+  out << YAML::Flow << YAML::BeginMap << YAML::Key << "type" << YAML::Value << "static" << YAML::Key
+      << "tolerance" << YAML::Value << number_text(solver.tolerance) << YAML::Key
+      << "max_iterations" << YAML::Value << solver.max_iterations << YAML::Key << "safety"
+      << YAML::Value << number_text(solver.safety) << YAML::Key << "max_break_rounds" << YAML::Value
+      << solver.max_break_rounds << YAML::Key << "trace_every" << YAML::Value << solver.trace_every
+      << YAML::EndMap;
 }
 
 void emit_output(YAML::Emitter& out, const OutputSpec& output, int dim) {
@@ -372,6 +391,7 @@ std::string resolved_yaml(const Scene& s) {
     out << YAML::EndSeq;
   }
   emit_effects(out, s);
+  emit_solver(out, s);
   emit_time(out, s.time);
   emit_output(out, s.output, s.dimension);
   emit_measure(out, s);

@@ -171,6 +171,9 @@ struct Scene {
   TimeSpec time;
   OutputSpec output;
   std::optional<MeasureSpec> measure;
+  /// `solver: static` (docs/theory.md §22): load steps are time.steps; absent: dynamics.
+  std::optional<StaticSolver> statics;
+  Location solver_where;  ///< of the `solver` key
 };
 
 /// A `--set key.path=value` override; value is parsed as YAML (so `false`, `5e-4`, `[0, 1]` work).

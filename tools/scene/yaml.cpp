@@ -56,7 +56,8 @@ const std::vector<std::string> kTopLevelKeys{"name",
                                              "effects",
                                              "time",
                                              "output",
-                                             "measure"};
+                                             "measure",
+                                             "solver"};
 
 /// The first line whose indentation holds a tab (YAML indents with spaces only), 0 for none.
 int tab_indented_line(const std::string& text) {
@@ -327,12 +328,17 @@ Scene read_scene(const Cursor& root, const std::string& file) {
       s.refinement = detail::read_refinement(*refinement, s);
   read_regions_and_loads(top, s);
   s.time = read_time(top.require("time"));
+  detail::read_solver(top, s);
   detail::check_state_family(top, s);
+  detail::check_static_solver(top, s);
   if (const auto output = top.get("output")) {
     s.output = read_output(*output, s.dimension);
   } else {
     s.output.frames = 20;
   }
+  // A static run's history has a row per load step unless asked otherwise.
+  if (s.statics && !(top.get("output") && MapView(*top.get("output"), {}).has("history_every")))
+    s.output.history_every = 1;
   if (const auto measure = top.get("measure")) s.measure = detail::read_measure(*measure, s);
   return s;
 }

@@ -34,20 +34,24 @@ void refuse_missing_axes(const Cursor& c, int dim) {
   }
 }
 
-std::array<std::optional<double>, 3> read_velocity_components(const Cursor& c, int dim) {
+/// The held components of a `velocity` or `displacement` condition (`what` names it).
+std::array<std::optional<double>, 3> read_held_components(const Cursor& c, int dim,
+                                                          std::string_view what) {
   if (!c.node().IsMap())
-    c.fail(fmt::format("a held velocity is a map of the components it holds, got {} (e.g. "
-                       "velocity: {{{}: 5.0}}; a component left out stays free)",
-                       c.describe(), axis_names(dim).back()),
+    c.fail(fmt::format("a held {} is a map of the components it holds, got {} (e.g. "
+                       "{}: {{{}: {}}}; a component left out stays free)",
+                       what, c.describe(), what, axis_names(dim).back(),
+                       what == "velocity" ? "5.0" : "1.0e-4"),
            "a map with keys " + join(axis_names(dim)));
   refuse_missing_axes(c, dim);
   const MapView map(c, axis_names(dim));
-  if (map.entries().empty()) c.fail("give at least one velocity component", join(axis_names(dim)));
-  std::array<std::optional<double>, 3> velocity;
+  if (map.entries().empty())
+    c.fail(fmt::format("give at least one {} component", what), join(axis_names(dim)));
+  std::array<std::optional<double>, 3> held;
   const auto axes = axis_names(dim);
   for (int a = 0; a < dim; ++a)
-    if (const auto component = map.get(axes[a])) velocity[a] = component->number();
-  return velocity;
+    if (const auto component = map.get(axes[a])) held[a] = component->number();
+  return held;
 }
 
 InitialCondition read_initial_condition(const Cursor& c, int dim) {
@@ -76,22 +80,26 @@ InitialCondition read_initial_condition(const Cursor& c, int dim) {
 }
 
 BoundaryCondition read_boundary_condition(const Cursor& c, int dim) {
-  const MapView map(c, {"region", "velocity", "fixed", "traction", "normal"});
+  const MapView map(c, {"region", "velocity", "fixed", "traction", "normal", "displacement"});
   BoundaryCondition bc;
   bc.region = read_shape(map.require("region"), dim);
-  const std::vector<std::string> kinds{"velocity", "fixed", "traction"};
+  const std::vector<std::string> kinds{"velocity", "fixed", "traction", "displacement"};
   const auto given =
       std::count_if(kinds.begin(), kinds.end(), [&](const std::string& k) { return map.has(k); });
   if (given != 1) {
-    c.fail(given == 0 ? "a boundary condition needs one of velocity, fixed, traction"
-                      : "give only one of velocity, fixed, traction per boundary condition",
+    c.fail(given == 0 ? "a boundary condition needs one of velocity, fixed, traction, displacement"
+                      : "give only one of velocity, fixed, traction, displacement per boundary "
+                        "condition",
            join(kinds));
   }
   if (map.has("normal") && !map.has("traction"))
     map.get("normal")->fail("normal is only used with traction");
   if (const auto v = map.get("velocity")) {
     bc.kind = BoundaryCondition::Kind::Velocity;
-    bc.velocity = read_velocity_components(*v, dim);
+    bc.velocity = read_held_components(*v, dim, "velocity");
+  } else if (const auto u = map.get("displacement")) {
+    bc.kind = BoundaryCondition::Kind::Displacement;
+    bc.displacement = read_held_components(*u, dim, "displacement");
   } else if (const auto fixed = map.get("fixed")) {
     if (!fixed->boolean())
       fixed->fail("fixed must be true (leave the condition out to keep the region free)", "true");

@@ -1,0 +1,144 @@
+// Statics by adaptive dynamic relaxation (docs/theory.md §22): each step() is a load step at load
+// factor k / load_steps, relaxed until the residual force is the solver's tolerance of the load;
+// with fracture, bonds beyond their critical stretch break between relaxations.
+#include <fmt/core.h>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "engine/base/errors.hpp"
+#include "engine/physics/bond_loops.hpp"
+#include "engine/physics/stable_step.hpp"
+#include "engine/simulation.hpp"
+
+namespace dhpd {
+
+double Simulation::load_factor() const {
+  if (!setup_.statics) return 1.0;
+  return static_cast<double>(steps_ + (solving_load_step_ ? 1 : 0)) /
+         static_cast<double>(setup_.load_steps);
+}
+
+std::vector<double> Simulation::relaxation_steps() const {
+  // D_i = ρ_i / dt_i² with dt_i the particle's own bound (9.1) (the bond-based one of the same E
+  // for the state-based families, a guide to its local stiffness): the largest eigenvalue of
+  // D⁻¹K by Lanczos gives the stable pseudo-step ĥ, and τ_i = safety · ĥ · dt_i (§22).
+  double largest = 0.0;
+  for (const double t : particle_dt_)
+    if (std::isfinite(t)) largest = std::max(largest, t);
+  std::vector<double> dt(particle_dt_);
+  for (auto& t : dt)
+    if (!std::isfinite(t)) t = largest;
+  ParticleStore scaled = p_;
+  for (std::size_t i = 0; i < p_.size(); ++i) scaled.density[i] = p_.density[i] / (dt[i] * dt[i]);
+  const double pseudo = state_based() ? state_lanczos_dt(scaled)
+                                      : lanczos_stable_step(bonds_, scaled, 80, 1e-4, nullptr).dt;
+  const double h = setup_.statics->safety * pseudo;
+  std::vector<double> tau2(p_.size());
+  for (std::size_t i = 0; i < p_.size(); ++i) tau2[i] = h * h * dt[i] * dt[i];
+  return tau2;
+}
+
+double Simulation::load_norm2(const ResidualNorms& norms) const {
+  const double lambda = load_factor();
+  double sum = norms.reaction2;
+  for (std::size_t k = 0; k < loads_.loaded.size(); ++k) {
+    const double v = p_.volume[static_cast<std::size_t>(loads_.loaded[k])];
+    for (int a = 0; a < p_.dim(); ++a) sum += std::pow(lambda * v * loads_.body_force[k][a], 2);
+  }
+  return sum;
+}
+
+std::int64_t Simulation::relax(RelaxationState& state) {
+  const auto& solver = *setup_.statics;
+  auto& report = relaxation_report_;
+  double first = 0.0;  // the first residual, the reference when nothing is loaded
+  const auto measure = [&](std::int64_t iteration, bool sample) {
+    // The load now: body forces and the reactions of the held components as they are (at the
+    // start of a load step these are far from their final values).
+    const auto norms = residual_norms(p_, state);
+    if (iteration == 0) first = std::sqrt(norms.residual2);
+    const double load = std::sqrt(load_norm2(norms));
+    const double reference = load > 0.0 ? load : first;
+    const double ratio = reference > 0.0 ? std::sqrt(norms.residual2) / reference : 0.0;
+    if (!std::isfinite(ratio))
+      stop_unstable("residual force of the relaxation", std::numeric_limits<double>::quiet_NaN(),
+                    0.0, steps_ + 1, load_factor());
+    report.residual = ratio;
+    report.damping = state.damping;
+    if (sample) report.trace.push_back({report.iterations + iteration, ratio, state.damping});
+    return ratio;
+  };
+  compute_forces();
+  std::int64_t it = 0;
+  if (measure(0, true) <= solver.tolerance) return 0;
+  relaxation_start(p_, state);
+  for (it = 1; it <= solver.max_iterations; ++it) {
+    compute_forces();
+    const bool sample = solver.trace_every > 0 && it % solver.trace_every == 0;
+    if (measure(it, sample) <= solver.tolerance) break;
+    relaxation_iteration(p_, state);
+  }
+  if (it > solver.max_iterations)
+    throw InstabilityError(fmt::format(
+        "the static solver did not converge in load step {} (load factor {:.6g}): after {} "
+        "iterations the residual force is {:.3g} of the load, the tolerance {:.3g} (raise "
+        "solver.max_iterations, or check that every part of the body is held: a free rigid-body "
+        "motion never settles)",
+        steps_ + 1, load_factor(), solver.max_iterations, report.residual, solver.tolerance));
+  if (solver.trace_every == 0 || it % solver.trace_every != 0)
+    report.trace.push_back({report.iterations + it, report.residual, state.damping});
+  return it;
+}
+
+double Simulation::static_step(const StepExtras& extras) {
+  // What the caller hands a step: run here, before the load step changes the state.
+  if (extras.before_change) (*extras.before_change)(0, static_cast<std::int64_t>(p_.size()));
+  if (extras.side_task) (*extras.side_task)();
+  solving_load_step_ = true;
+  const struct Done {
+    bool& flag;
+    ~Done() { flag = false; }
+  } done{solving_load_step_};
+  relaxation_report_ = {};
+  const int dim = p_.dim();
+  std::vector<double> start(static_cast<std::size_t>(dim) * loads_.loaded.size());
+  for (std::size_t k = 0; k < loads_.loaded.size(); ++k)
+    for (int a = 0; a < dim; ++a)
+      start[dim * k + a] = p_.displacement[a][static_cast<std::size_t>(loads_.loaded[k])];
+  apply_prescribed_displacement(loads_, load_factor(), p_);
+  RelaxationState state;
+  state.tau2 = relaxation_steps();
+  state.held = prescribed_axes(loads_, p_.size());
+  auto& report = relaxation_report_;
+  const auto& solver = *setup_.statics;
+  for (report.rounds = 1;; ++report.rounds) {
+    report.iterations += relax(state);
+    if (!setup_.effects.fracture) break;
+    const auto before = broken_;
+    broken_ += break_bonds(bonds_, p_, bond_constants());
+    report.broken += broken_ - before;
+    if (broken_ == before) break;
+    if (report.rounds == solver.max_break_rounds)
+      throw InstabilityError(fmt::format(
+          "bonds still broke after {} relaxations in load step {} (load factor {:.6g}; {} bonds "
+          "broke in it): the crack grows unstably at this load (take more load steps, or raise "
+          "solver.max_break_rounds)",
+          report.rounds, steps_ + 1, load_factor(), report.broken));
+  }
+  for (int a = 0; a < dim; ++a) std::fill(p_.velocity[a].begin(), p_.velocity[a].end(), 0.0);
+  compute_forces();
+  // The body forces' work over the load step, trapezoidal in the load factor (exact for a linear
+  // response); the held components' work is the boundary power's (finish_step).
+  const double lambda = load_factor(), previous = lambda - 1.0 / setup_.load_steps;
+  double work = 0.0;
+  for (std::size_t k = 0; k < loads_.loaded.size(); ++k) {
+    const auto i = static_cast<std::size_t>(loads_.loaded[k]);
+    for (int a = 0; a < dim; ++a)
+      work += 0.5 * (lambda + previous) * loads_.body_force[k][a] *
+              (p_.displacement[a][i] - start[dim * k + a]) * p_.volume[i];
+  }
+  return work;
+}
+
+}  // namespace dhpd

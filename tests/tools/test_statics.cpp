@@ -1,0 +1,264 @@
+// Statics by adaptive dynamic relaxation (docs/theory.md §22): the CMAME 2017 §5.1 bi-material bar
+// against its piecewise-linear solution, a plate in tension against a long damped dynamic run of
+// the same scene and against σL/E, load steps, the energy ledger, and what a static scene refuses.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "engine/base/errors.hpp"
+#include "tools/scene/build.hpp"
+#include "tools/scene/scene.hpp"
+
+namespace dhpd {
+namespace {
+
+/// CMAME 2017 §5.1: a 1 m bar, E1 = 1 (Δx = 0.01) on the left half, E2 = 2 (Δx = 0.005) on the
+/// right, three points held at each end, the right ones moved by Δs = 1e-4. Linear partial volumes
+/// make the bar's modulus E (with none, 3 neighbours a side at δ = 3.015Δx give 12Δx²/δ² E =
+/// 1.32 E).
+std::string bimaterial_bar(const std::string& model) {
+  return "name: bar\ndimension: 1\narea: 1.0\nmaterials:\n  soft: {E: 1.0, rho: 1.0}\n"
+         "  stiff: {E: 2.0, rho: 1.0}\nbody:\n"
+         "  - {shape: box, min: [0.0], max: [0.5], spacing: 0.01, material: soft}\n"
+         "  - {shape: box, min: [0.5], max: [1.0], spacing: 0.005, material: stiff}\n"
+         "partial_volume: linear\nmodel: " +
+         model +
+         "\nboundary_conditions:\n"
+         "  - region: {shape: box, min: [0.0], max: [0.03]}\n    fixed: true\n"
+         "  - region: {shape: box, min: [0.985], max: [1.0]}\n    displacement: {x: 1.0e-4}\n"
+         "solver: {type: static, tolerance: 1.0e-8}\ntime: {steps: 1}\n";
+}
+
+/// The least-squares slope of u over the particles with lo < X < hi.
+double slope(const ParticleStore& p, double lo, double hi) {
+  double n = 0, sx = 0, su = 0, sxx = 0, sxu = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const double x = p.reference_position[0][i], u = p.displacement[0][i];
+    if (x <= lo || x >= hi) continue;
+    n += 1, sx += x, su += u, sxx += x * x, sxu += x * u;
+  }
+  return (n * sxu - sx * su) / (n * sxx - sx * sx);
+}
+
+struct BarResult {
+  double soft_strain, stiff_strain, reaction_left, reaction_right;
+};
+
+BarResult solve_bar(const std::string& model) {
+  const auto scene = scene::parse_scene(bimaterial_bar(model), "bar.yaml");
+  auto sim = scene::build_simulation(scene);
+  sim->step();
+  const auto& p = sim->particles();
+  // Away from the held ends and the interface by two coarse horizons.
+  const double reach = 2 * 3.015 * 0.01;
+  const auto left = reaction_force(sim->loads(), p, scene.boundary_conditions[0].bc.region);
+  const auto right = reaction_force(sim->loads(), p, scene.boundary_conditions[1].bc.region);
+  return {slope(p, 0.03 + reach, 0.5 - reach), slope(p, 0.5 + reach, 0.985 - reach), left[0],
+          right[0]};
+}
+
+// Dual horizons: the strain halves where E doubles and the force is E ε on both sides (the
+// analytic solution's σ = E1 ε1 = E2 ε2); the reactions balance.
+TEST(Statics, DualHorizonBimaterialBarIsPiecewiseLinear) {
+  const auto r = solve_bar("dual-horizon");
+  std::printf("dual horizon: ε1 %.6e, ε2 %.6e, ratio %.5f; E1 ε1 %.6e, E2 ε2 %.6e, R %.6e\n",
+              r.soft_strain, r.stiff_strain, r.soft_strain / r.stiff_strain, r.soft_strain,
+              2 * r.stiff_strain, r.reaction_right);
+  EXPECT_NEAR(r.soft_strain / r.stiff_strain, 2.0, 0.01);
+  EXPECT_NEAR(r.soft_strain / r.reaction_right, 1.0, 0.01);
+  EXPECT_NEAR(2 * r.stiff_strain / r.reaction_right, 1.0, 0.01);
+  EXPECT_NEAR(r.reaction_left / r.reaction_right, -1.0, 1e-6);  // 100 × the tolerance: Σ vs |.|
+}
+
+// One constant horizon (the coarse one) for both halves, each bond the owner's E (the paper's
+// Case I): a pair across the material interface pulls its two ends with different forces, so the
+// sectional force jumps there (the reactions differ by about half) and the strains are not E's.
+TEST(Statics, ConstantHorizonBimaterialBarMissesIt) {
+  const auto r = solve_bar("constant-horizon");
+  std::printf("constant horizon: ε1 %.6e, ε2 %.6e, ratio %.5f; E1 ε1 / R %.4f, E2 ε2 / R %.4f\n",
+              r.soft_strain, r.stiff_strain, r.soft_strain / r.stiff_strain,
+              r.soft_strain / r.reaction_right, 2 * r.stiff_strain / r.reaction_right);
+  const double worst = std::max(std::abs(r.soft_strain / r.reaction_right - 1.0),
+                                std::abs(2 * r.stiff_strain / r.reaction_right - 1.0));
+  EXPECT_GT(worst, 0.2);
+  EXPECT_GT(std::abs(r.reaction_left / r.reaction_right + 1.0), 0.2);
+}
+
+/// A 0.1 × 0.1 m steel plate (plane stress), its left three columns clamped, σ = 200 MPa on its
+/// right column as a body force; `model` and `materials` as given.
+std::string tension_plate(const std::string& solver, const std::string& model, double nu) {
+  return "name: plate\ndimension: 2\nplane: stress\nthickness: 0.01\nmaterials:\n"
+         "  steel: {E: 200.0e9, rho: 7850, nu: " +
+         std::to_string(nu) +
+         "}\nbody:\n  - {shape: box, min: [0, 0], max: [0.1, 0.1], spacing: 0.005, material: "
+         "steel}\npartial_volume: linear\nmodel: " +
+         model +
+         "\nboundary_conditions:\n"
+         "  - region: {shape: box, min: [0, 0], max: [0.015, 0.1]}\n    fixed: true\n"
+         "  - region: {shape: box, min: [0.095, 0], max: [0.1, 0.1]}\n"
+         "    traction: [200.0e6, 0]\n    normal: x\n" +
+         solver;
+}
+
+struct PlateCase {
+  const char* name;
+  const char* model;
+  double nu;
+  /// How far the centre line's strain may be from σ/E: bond-based PD has no surface correction,
+  /// so the plate's free edges (three of its twenty rows each) are softer and its middle strains
+  /// more (measured 1.177).
+  double strain_tolerance;
+};
+
+class StaticPlate : public ::testing::TestWithParam<PlateCase> {};
+
+// ADR's equilibrium against the end of a long damped dynamic run of the same scene (mass-
+// proportional damping at about twice the lowest frequency, velocity Verlet): the same
+// displacements to 1e-4 of the largest; and the strain along the centre line against σ/E.
+TEST_P(StaticPlate, EqualsALongDampedDynamicRunAndPullsAsSigmaOverE) {
+  const auto c = GetParam();
+  auto statics = scene::build_simulation(scene::parse_scene(
+      tension_plate("solver: {type: static, tolerance: 1.0e-8}\ntime: {steps: 1}\n", c.model, c.nu),
+      "static.yaml"));
+  statics->step();
+  auto dynamics = scene::build_simulation(scene::parse_scene(
+      tension_plate("time: {steps: 1, safety: 0.9}\n", c.model, c.nu), "dynamic.yaml"));
+  // The lowest mode of a clamped–free plate of length L: ω ≈ (π/2) sqrt(E/ρ) / L.
+  const double lowest = 0.5 * M_PI * std::sqrt(200e9 / 7850) / 0.085;
+  auto& p = dynamics->particles();
+  const double keep = std::exp(-2.0 * lowest * dynamics->dt());
+  for (int k = 0; k < 12000; ++k) {
+    dynamics->step();
+    for (int a = 0; a < 2; ++a)
+      for (auto& v : p.velocity[a]) v *= keep;
+  }
+  const auto& q = statics->particles();
+  double largest = 0.0, difference = 0.0;
+  for (std::size_t i = 0; i < q.size(); ++i)
+    for (int a = 0; a < 2; ++a) {
+      largest = std::max(largest, std::abs(q.displacement[a][i]));
+      difference = std::max(difference, std::abs(q.displacement[a][i] - p.displacement[a][i]));
+    }
+  // The strain along y = 0.05 between x = 0.04 and 0.07 (away from the clamp and the load).
+  double strain = 0.0;
+  {
+    double n = 0, sx = 0, su = 0, sxx = 0, sxu = 0;
+    for (std::size_t i = 0; i < q.size(); ++i) {
+      const double x = q.reference_position[0][i], y = q.reference_position[1][i];
+      if (std::abs(y - 0.0475) > 1e-9 || x < 0.04 || x > 0.07) continue;
+      const double u = q.displacement[0][i];
+      n += 1, sx += x, su += u, sxx += x * x, sxu += x * u;
+    }
+    strain = (n * sxu - sx * su) / (n * sxx - sx * sx);
+  }
+  const auto& r = statics->last_relaxation();
+  std::printf("%s: %lld iterations; |u_static - u_damped| / max|u| = %.2e; strain / (σ/E) %.4f\n",
+              c.name, static_cast<long long>(r.iterations), difference / largest, strain / 1e-3);
+  EXPECT_LT(difference / largest, 1e-4);
+  EXPECT_NEAR(strain / 1e-3, 1.0, c.strain_tolerance);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Models, StaticPlate,
+    ::testing::Values(PlateCase{"bond-based", "dual-horizon", 1.0 / 3.0, 0.2},
+                      PlateCase{"ordinary state-based ν = 0.25",
+                                "{family: ordinary-state, horizon: dual-horizon}", 0.25, 0.02},
+                      PlateCase{"correspondence ν = 0.25",
+                                "{family: correspondence, horizon: dual-horizon}", 0.25, 0.03}),
+    [](const auto& info) {
+      return std::string(info.index == 0 ? "BondBased" : info.index == 1 ? "Ordinary" : "Nosb");
+    });
+
+// Load steps: the same linear plate reached in four steps is the one-step answer (to the
+// tolerance), the history's work equals the strain energy (Clapeyron, trapezoidal work exact for a
+// linear response), and each step relaxes from the last.
+TEST(Statics, LoadStepsReachTheSameStateAndTheWorkIsTheStrainEnergy) {
+  const auto model = "{family: ordinary-state, horizon: dual-horizon}";
+  auto once = scene::build_simulation(scene::parse_scene(
+      tension_plate("solver: {type: static, tolerance: 1.0e-9}\ntime: {steps: 1}\n", model, 0.25),
+      "one.yaml"));
+  once->step();
+  auto stepped = scene::build_simulation(scene::parse_scene(
+      tension_plate("solver: {type: static, tolerance: 1.0e-9}\ntime: {steps: 4}\n", model, 0.25),
+      "four.yaml"));
+  std::vector<double> loads;
+  for (int k = 0; k < 4; ++k) {
+    stepped->step();
+    loads.push_back(stepped->load_factor());
+  }
+  EXPECT_EQ(loads, (std::vector<double>{0.25, 0.5, 0.75, 1.0}));
+  double largest = 0.0, difference = 0.0;
+  for (std::size_t i = 0; i < once->particles().size(); ++i) {
+    const double a = once->particles().displacement[0][i];
+    largest = std::max(largest, std::abs(a));
+    difference = std::max(difference, std::abs(a - stepped->particles().displacement[0][i]));
+  }
+  EXPECT_LT(difference / largest, 1e-6);
+  const auto e = stepped->energies();
+  std::printf("4 load steps: strain energy %.9e J, work %.9e J\n", e.strain, e.external_work);
+  EXPECT_NEAR(e.strain / e.external_work, 1.0, 1e-3);
+}
+
+// Fracture between relaxations: a bar pulled to 0.5 of its bonds' critical stretch keeps every
+// bond; pulled to 1.5 of it, bonds break round after round until it has parted and carries no
+// force.
+TEST(Statics, BondsBreakBetweenRelaxationsUntilTheBarParts) {
+  const auto pulled = [](double fraction) {
+    auto text = bimaterial_bar("dual-horizon");
+    text.replace(text.find("{E: 1.0, rho: 1.0}"), 18, "{E: 1.0, rho: 1.0, G0: 1.0e-6}");
+    text.replace(text.find("{E: 2.0, rho: 1.0}"), 18, "{E: 2.0, rho: 1.0, G0: 1.0e-6}");
+    text += "effects: {fracture: true}\n";
+    auto sim = scene::build_simulation(scene::parse_scene(text, "bar.yaml"));
+    // The bar's mean strain at the break: the softest bonds' critical stretch.
+    double s0 = HUGE_VAL;
+    for (const double s : sim->critical_stretch()) s0 = std::min(s0, s);
+    auto held = scene::parse_scene(text, "bar.yaml");
+    held.boundary_conditions[1].bc.displacement[0] = fraction * s0 * 0.95;
+    sim = scene::build_simulation(held);
+    sim->step();
+    const auto r =
+        reaction_force(sim->loads(), sim->particles(), held.boundary_conditions[1].bc.region);
+    std::printf("pulled by %.2f s0 L: %lld bonds broken in %d relaxations, reaction %.3e\n",
+                fraction, static_cast<long long>(sim->broken_bonds()),
+                sim->last_relaxation().rounds, r[0]);
+    return std::pair{sim->broken_bonds(), r[0]};
+  };
+  EXPECT_EQ(pulled(0.5).first, 0);  // the soft half strains 4/3 of the mean: 0.67 s0
+  const auto [broken, reaction] = pulled(1.5);
+  EXPECT_GT(broken, 0);
+  EXPECT_EQ(reaction, 0.0);
+}
+
+// Bad input: what a static scene cannot mean is refused at its key.
+TEST(Statics, SceneRefusesWhatAStaticRunCannotMean) {
+  const auto refused = [](const std::string& text, const std::string& expected) {
+    try {
+      scene::parse_scene(text, "s.yaml");
+      ADD_FAILURE() << "accepted: " << expected;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+    }
+  };
+  const auto plate = [](const std::string& extra, const std::string& time = "{steps: 1}") {
+    return tension_plate("solver: static\ntime: " + time + "\n" + extra, "dual-horizon", 1.0 / 3.0);
+  };
+  refused(plate("", "{end: 1.0}"),
+          "s.yaml:18: time.end: a static run counts load steps, not seconds");
+  refused(plate("", "{steps: 1, dt: 1.0e-7}"), "time.dt: a static run has no time step");
+  refused(plate("", "{steps: 1, multirate: true}"), "time levels are a dynamic scheme");
+  auto velocity = plate("");
+  velocity.replace(velocity.find("fixed: true"), 11, "velocity: {x: 1.0}");
+  refused(velocity, "boundary_conditions.0.velocity: a static run holds displacements");
+  refused(plate("").replace(plate("").find("solver: static"), 14, "solver: {type: statik}"),
+          "solver.type");
+  refused(plate("").replace(plate("").find("solver: static"), 14,
+                            "solver: {type: static, tolerance: 2.0}"),
+          "solver.tolerance: tolerance is a fraction of the load");
+}
+
+}  // namespace
+}  // namespace dhpd

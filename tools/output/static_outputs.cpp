@@ -1,0 +1,58 @@
+// history.csv's static columns and relaxation.csv (docs/outputs.md).
+#include "tools/output/static_outputs.hpp"
+
+#include <fmt/format.h>
+
+#include "tools/output/text_outputs.hpp"
+
+namespace dhpd::io {
+namespace {
+
+constexpr const char* kRelaxationHeader = "load_step,load_factor,iteration,residual,damping";
+
+bool held(const BoundaryCondition& bc) {
+  return bc.kind == BoundaryCondition::Kind::Fixed ||
+         bc.kind == BoundaryCondition::Kind::Displacement;
+}
+
+}  // namespace
+
+std::vector<std::string> static_columns(const scene::Scene& s) {
+  if (!s.statics) return {};
+  std::vector<std::string> columns{"load_factor", "iterations", "relaxations", "residual"};
+  const char* axes[] = {"x", "y", "z"};
+  for (std::size_t k = 0; k < s.boundary_conditions.size(); ++k)
+    if (held(s.boundary_conditions[k].bc))
+      for (int a = 0; a < s.dimension; ++a) columns.push_back(fmt::format("bc{}_R{}", k, axes[a]));
+  return columns;
+}
+
+std::vector<double> static_values(const scene::Scene& s, const Simulation& sim) {
+  if (!s.statics) return {};
+  const auto& r = sim.last_relaxation();
+  std::vector<double> values{sim.load_factor(), static_cast<double>(r.iterations),
+                             static_cast<double>(r.rounds), r.residual};
+  for (const auto& c : s.boundary_conditions)
+    if (held(c.bc)) {
+      const auto force = reaction_force(sim.loads(), sim.particles(), c.bc.region);
+      for (int a = 0; a < s.dimension; ++a) values.push_back(force[a]);
+    }
+  return values;
+}
+
+RelaxationWriter::RelaxationWriter(const std::string& path, bool append)
+    : out_(open_csv(path, kRelaxationHeader, "relaxation", append)) {}
+
+void RelaxationWriter::write(const Simulation& sim) {
+  std::string rows;
+  for (const auto& sample : sim.last_relaxation().trace)
+    rows += fmt::format("{},{:.17g},{},{:.17g},{:.17g}\n", sim.steps_done(), sim.load_factor(),
+                        sample.iteration, sample.residual, sample.damping);
+  write_row(out_, rows, "relaxation");
+}
+
+std::uint64_t RelaxationWriter::bytes() {
+  return bytes_written(out_);
+}
+
+}  // namespace dhpd::io
