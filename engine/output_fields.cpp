@@ -72,6 +72,16 @@ const Derived kDerived[] = {
                           sim.setup().section, q);
        return FieldValues{1, std::move(q)};
      }},
+    {{"fictitious", "-",
+      "1 for a particle of a fictitious boundary layer (outside the body; hide it with a "
+      "threshold), 0 for the body's (written by scenes with fictitious_layer conditions)",
+      false},
+     [](Simulation& sim) {
+       std::vector<std::int32_t> flag(sim.particles().size(), 0);
+       for (const auto& layer : sim.fictitious_layers())
+         for (const auto i : layer.particle) flag[static_cast<std::size_t>(i)] = 1;
+       return FieldValues{1, std::move(flag)};
+     }},
     {{"time_level", "-",
       "time level: the particle steps at dt0 / 2^level (written by runs with time.multirate)",
       false},

@@ -21,6 +21,7 @@ Simulation::Simulation(SimulationSetup setup)
   {
     auto t = timers_.scope(Phase::Search);
     init_particles();  // takes the points out of setup_
+    resolve_layers();
     bonds_ = build_bond_rows(p_, setup_.partial_volume, setup_.cracks);
     if (corrects_interfaces())
       initial_interfaces_ = correct_level_interfaces(bonds_, p_, setup_.partial_volume, C_, {});
@@ -37,8 +38,17 @@ Simulation::Simulation(SimulationSetup setup)
   dt_ = setup_.statics ? 1.0 / static_cast<double>(setup_.load_steps)
                        : setup_.fixed_dt.value_or(setup_.safety * critical_dt_);
   loads_ = resolve_loads(setup_.boundary_conditions, p_);
+  first_layer_entry_ = loads_.prescribed.size();
+  for (const auto& layer : layers_)  // held, not integrated: their displacements follow the rule
+    for (const auto i : layer.particle) {
+      loads_.prescribed.push_back(i);
+      loads_.mask.push_back({1, 1, 1});
+      loads_.prescribed_velocity.push_back({0, 0, 0});
+      loads_.prescribed_displacement.push_back({0, 0, 0});
+    }
   apply_prescribed_displacement(loads_, load_factor(), p_);
   enforce_prescribed_velocity();
+  apply_layers();
   compute_forces();
   if (setup_.effects.fracture)
     compute_damage(bonds_, p_, setup_.partial_volume);  // then kept current by each step
@@ -175,19 +185,65 @@ void Simulation::enforce_prescribed_velocity() {
   }
 }
 
+void Simulation::resolve_layers() {
+  for (const auto& spec : setup_.layers) {
+    layers_.push_back(resolve_layer(spec, p_));
+    for (const auto i : layers_.back().particle) p_.no_fail[i] = 1;
+  }
+}
+
+bool Simulation::apply_layers() {
+  for (const auto& layer : layers_)
+    apply_layer(layer, load_factor(), setup_.materials, setup_.section, p_);
+  return !layers_.empty();
+}
+
+Vec3 Simulation::layer_reaction(std::size_t k) const {
+  Vec3 r{0, 0, 0};
+  for (const auto i : layers_.at(k).particle)
+    for (int a = 0; a < p_.dim(); ++a) r[a] -= p_.volume[i] * p_.force_density[a][i];
+  return r;
+}
+
 double Simulation::boundary_power() const {
   // A prescribed constant velocity needs a reaction −f_int (per volume) on each constrained
-  // component; its power is that reaction times the velocity. In statics, the rate of work per
-  // unit load factor: the reaction times the full-load displacement (docs/theory.md §22).
+  // component; its power is that reaction times the velocity. (A static run integrates its held
+  // components' work itself, held_work; fictitious layers' particles have no velocity.)
   double power = 0.0;
+  if (setup_.statics) return power;
   for (std::size_t k = 0; k < loads_.prescribed.size(); ++k) {
     const auto i = loads_.prescribed[k];
-    const Vec3& rate =
-        setup_.statics ? loads_.prescribed_displacement[k] : loads_.prescribed_velocity[k];
     for (int a = 0; a < p_.dim(); ++a)
-      if (loads_.mask[k][a]) power -= p_.force_density[a][i] * p_.volume[i] * rate[a];
+      if (loads_.mask[k][a])
+        power -= p_.force_density[a][i] * p_.volume[i] * loads_.prescribed_velocity[k][a];
   }
   return power;
+}
+
+Simulation::HeldState Simulation::held_state(std::size_t first) const {
+  HeldState h;
+  h.first = first;
+  for (std::size_t k = first; k < loads_.prescribed.size(); ++k) {
+    const auto i = loads_.prescribed[k];
+    for (int a = 0; a < p_.dim(); ++a) {
+      h.reaction.push_back(-p_.volume[i] * p_.force_density[a][i]);
+      h.displacement.push_back(p_.displacement[a][i]);
+    }
+  }
+  return h;
+}
+
+double Simulation::held_work(const HeldState& before) const {
+  double work = 0.0;
+  std::size_t c = 0;
+  for (std::size_t k = before.first; k < loads_.prescribed.size(); ++k) {
+    const auto i = loads_.prescribed[k];
+    for (int a = 0; a < p_.dim(); ++a, ++c)
+      if (loads_.mask[k][a])
+        work += 0.5 * (before.reaction[c] - p_.volume[i] * p_.force_density[a][i]) *
+                (p_.displacement[a][i] - before.displacement[c]);
+  }
+  return work;
 }
 
 void Simulation::step(StepExtras extras) {
@@ -250,8 +306,19 @@ double Simulation::verlet_step(const StepExtras& extras) {
     }
     kernel_points_.fresh = true;
   }
+  // Fictitious layers follow the body's new positions; their supports' work enters the ledger.
+  std::optional<HeldState> layers_before;
+  if (!layers_.empty()) {
+    layers_before = held_state(first_layer_entry_);
+    apply_layers();
+    auto& points = kernel_points_.xyzv;
+    for (const auto& layer : layers_)
+      for (const auto i : layer.particle)
+        for (int a = 0; a < dim; ++a) points[4 * i + a] = p_.position[a][i];
+  }
   compute_forces(setup_.effects.fracture, extras.strain_energy ? &fused_energy_.rows : nullptr,
                  extras.side_task);
+  if (layers_before) body_work += held_work(*layers_before);
   {
     auto t = timers_.scope(Phase::Integrate);
 #pragma omp parallel for schedule(static) if (n >= kParallelMinParticles)

@@ -11,6 +11,7 @@
 #include "engine/discretization/particles.hpp"
 #include "engine/discretization/section.hpp"
 #include "engine/physics/correspondence.hpp"
+#include "engine/physics/fictitious_layer.hpp"
 #include "engine/physics/force_kernel.hpp"
 #include "engine/physics/interactions.hpp"
 #include "engine/physics/interface_consistency.hpp"
@@ -86,6 +87,8 @@ struct SimulationSetup {
   /// relaxation, at load factor k / load_steps; absent: explicit dynamics.
   std::optional<StaticSolver> statics;
   std::int64_t load_steps = 1;  ///< statics: steps to the full load
+  /// Fictitious boundary layers (docs/theory.md §23); their particles are in `points`.
+  std::vector<FictitiousLayerSpec> layers;
 };
 
 /// What an editor of the discretisation (refine/) changed, handed to Simulation::commit_edit.
@@ -167,6 +170,10 @@ class Simulation {
     std::vector<Sample> trace;
   };
   const RelaxationReport& last_relaxation() const { return relaxation_report_; }
+  /// The fictitious boundary layers (docs/theory.md §23), bound to slots.
+  const std::vector<ResolvedLayer>& fictitious_layers() const { return layers_; }
+  /// The force layer k puts on the body: −Σ V f over its particles, N.
+  Vec3 layer_reaction(std::size_t k) const;
 
   /// Multi-rate stepping is allowed: time.multirate is not false and the model is conservative.
   bool multirate_enabled() const;
@@ -290,7 +297,21 @@ class Simulation {
   void compute_forces(bool with_fracture = false, std::vector<double>* row_energy = nullptr,
                       const SideTask* side = nullptr);
   void enforce_prescribed_velocity();
+  /// Binds the setup's layers to slots, holds their particles (loads_) and keeps their bonds.
+  void resolve_layers();
+  /// Every layer's displacements from the body's (at the current load factor); returns whether
+  /// there is any.
+  bool apply_layers();
   double boundary_power() const;
+  /// The held components' reactions −V f and displacements, to integrate their work over a step
+  /// (prescribed entries from `first` on).
+  struct HeldState {
+    std::size_t first = 0;
+    std::vector<double> reaction, displacement;
+  };
+  HeldState held_state(std::size_t first) const;
+  /// ½ (R_before + R_now) · (u_now − u_before) over the held components of `before`.
+  double held_work(const HeldState& before) const;
   /// One static load step (simulation_static.cpp): the extras run first; returns the body
   /// forces' work.
   double static_step(const StepExtras& extras);
@@ -384,6 +405,8 @@ class Simulation {
   std::int64_t generation_ = 0;
   bool solving_load_step_ = false;      ///< inside static_step (load_factor of the next step)
   RelaxationReport relaxation_report_;  ///< not archived: the last load step's
+  std::vector<ResolvedLayer> layers_;   ///< derived from the setup and the ids
+  std::size_t first_layer_entry_ = 0;   ///< loads_.prescribed entries of layers start here
   std::int32_t next_id_ = 0;
   InterfaceCorrection initial_interfaces_;
 };

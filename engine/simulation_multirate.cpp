@@ -20,7 +20,7 @@ bool Simulation::multirate_enabled() const {
   // The state-based family takes one global step: a pair's force depends on the dilatations of
   // both ends, sums over whole horizons that mix levels (docs/theory.md §20.3).
   return setup_.multirate.value_or(true) && setup_.model != ForceModel::ClassicalVariable &&
-         setup_.family == ModelFamily::Bond && !setup_.statics;
+         setup_.family == ModelFamily::Bond && !setup_.statics && setup_.layers.empty();
 }
 
 LevelChoice Simulation::choose_levels() const {

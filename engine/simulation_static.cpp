@@ -69,11 +69,13 @@ std::int64_t Simulation::relax(RelaxationState& state) {
     if (sample) report.trace.push_back({report.iterations + iteration, ratio, state.damping});
     return ratio;
   };
+  apply_layers();
   compute_forces();
   std::int64_t it = 0;
   if (measure(0, true) <= solver.tolerance) return 0;
   relaxation_start(p_, state);
   for (it = 1; it <= solver.max_iterations; ++it) {
+    apply_layers();
     compute_forces();
     const bool sample = solver.trace_every > 0 && it % solver.trace_every == 0;
     if (measure(it, sample) <= solver.tolerance) break;
@@ -106,6 +108,7 @@ double Simulation::static_step(const StepExtras& extras) {
   for (std::size_t k = 0; k < loads_.loaded.size(); ++k)
     for (int a = 0; a < dim; ++a)
       start[dim * k + a] = p_.displacement[a][static_cast<std::size_t>(loads_.loaded[k])];
+  const auto held_before = held_state(0);  // the last equilibrium's reactions and displacements
   apply_prescribed_displacement(loads_, load_factor(), p_);
   RelaxationState state;
   state.tau2 = relaxation_steps();
@@ -127,9 +130,10 @@ double Simulation::static_step(const StepExtras& extras) {
           report.rounds, steps_ + 1, load_factor(), report.broken));
   }
   for (int a = 0; a < dim; ++a) std::fill(p_.velocity[a].begin(), p_.velocity[a].end(), 0.0);
+  apply_layers();
   compute_forces();
-  // The body forces' work over the load step, trapezoidal in the load factor (exact for a linear
-  // response); the held components' work is the boundary power's (finish_step).
+  // The body forces' and the held components' work over the load step, trapezoidal in the load
+  // factor (exact for a linear response).
   const double lambda = load_factor(), previous = lambda - 1.0 / setup_.load_steps;
   double work = 0.0;
   for (std::size_t k = 0; k < loads_.loaded.size(); ++k) {
@@ -138,7 +142,7 @@ double Simulation::static_step(const StepExtras& extras) {
       work += 0.5 * (lambda + previous) * loads_.body_force[k][a] *
               (p_.displacement[a][i] - start[dim * k + a]) * p_.volume[i];
   }
-  return work;
+  return work + held_work(held_before);
 }
 
 }  // namespace dhpd

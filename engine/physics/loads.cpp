@@ -85,6 +85,7 @@ ResolvedLoads resolve_loads(const std::vector<BoundaryCondition>& bcs, const Par
   r.condition_body_force.assign(bcs.size(), Vec3{0, 0, 0});
   for (std::size_t c = 0; c < bcs.size(); ++c) {
     const auto& bc = bcs[c];
+    if (bc.layer_axis >= 0) continue;  // a fictitious layer (Simulation holds its particles)
     const auto chosen = select(p, bc.region);
     if (chosen.empty())
       throw InputError("boundary_conditions." + std::to_string(c) +

@@ -34,6 +34,10 @@ struct BoundaryCondition {
   std::array<std::optional<double>, 3> displacement;
   Vec3 traction{0, 0, 0};  ///< Pa, spread as a body force over the layer (Traction)
   int normal_axis = 0;     ///< axis normal to the loaded face (Traction)
+  /// ≥ 0: the condition acts through a fictitious layer outside the body's face on this axis (at
+  /// its `layer_side`: +1 largest, −1 smallest coordinate; docs/theory.md §23), not on a region.
+  int layer_axis = -1;
+  int layer_side = 0;
 };
 
 /// ResolvedLoads::mask of a component held at a prescribed displacement (any non-zero value means

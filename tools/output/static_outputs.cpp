@@ -10,33 +10,41 @@ namespace {
 
 constexpr const char* kRelaxationHeader = "load_step,load_factor,iteration,residual,damping";
 
-bool held(const BoundaryCondition& bc) {
-  return bc.kind == BoundaryCondition::Kind::Fixed ||
-         bc.kind == BoundaryCondition::Kind::Displacement;
+/// Whether history.csv has condition `bc`'s reaction: every fictitious layer's, and in a static
+/// run every fixed or displacement region's.
+bool reported(const scene::Scene& s, const BoundaryCondition& bc) {
+  if (bc.layer_axis >= 0) return true;
+  return s.statics && (bc.kind == BoundaryCondition::Kind::Fixed ||
+                       bc.kind == BoundaryCondition::Kind::Displacement);
 }
 
 }  // namespace
 
 std::vector<std::string> static_columns(const scene::Scene& s) {
-  if (!s.statics) return {};
-  std::vector<std::string> columns{"load_factor", "iterations", "relaxations", "residual"};
+  std::vector<std::string> columns;
+  if (s.statics) columns = {"load_factor", "iterations", "relaxations", "residual"};
   const char* axes[] = {"x", "y", "z"};
   for (std::size_t k = 0; k < s.boundary_conditions.size(); ++k)
-    if (held(s.boundary_conditions[k].bc))
+    if (reported(s, s.boundary_conditions[k].bc))
       for (int a = 0; a < s.dimension; ++a) columns.push_back(fmt::format("bc{}_R{}", k, axes[a]));
   return columns;
 }
 
 std::vector<double> static_values(const scene::Scene& s, const Simulation& sim) {
-  if (!s.statics) return {};
-  const auto& r = sim.last_relaxation();
-  std::vector<double> values{sim.load_factor(), static_cast<double>(r.iterations),
-                             static_cast<double>(r.rounds), r.residual};
-  for (const auto& c : s.boundary_conditions)
-    if (held(c.bc)) {
-      const auto force = reaction_force(sim.loads(), sim.particles(), c.bc.region);
-      for (int a = 0; a < s.dimension; ++a) values.push_back(force[a]);
-    }
+  std::vector<double> values;
+  if (s.statics) {
+    const auto& r = sim.last_relaxation();
+    values = {sim.load_factor(), static_cast<double>(r.iterations), static_cast<double>(r.rounds),
+              r.residual};
+  }
+  std::size_t layer = 0;  // layers are numbered in the conditions' order
+  for (const auto& c : s.boundary_conditions) {
+    if (!reported(s, c.bc)) continue;
+    const auto force = c.bc.layer_axis >= 0
+                           ? sim.layer_reaction(layer++)
+                           : reaction_force(sim.loads(), sim.particles(), c.bc.region);
+    for (int a = 0; a < s.dimension; ++a) values.push_back(force[a]);
+  }
   return values;
 }
 

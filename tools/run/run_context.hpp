@@ -43,6 +43,8 @@ inline std::vector<std::string> output_field_names(const scene::Scene& s, const 
   for (const auto& f : s.output.fields) names.push_back(f);
   const bool listed = std::find(names.begin(), names.end(), "time_level") != names.end();
   if (reports_time_levels(s, sim) && !listed) names.push_back("time_level");
+  const bool flagged = std::find(names.begin(), names.end(), "fictitious") != names.end();
+  if (!sim.fictitious_layers().empty() && !flagged) names.push_back("fictitious");
   return names;
 }
 

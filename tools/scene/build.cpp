@@ -16,6 +16,7 @@
 #include "engine/discretization/neighbor_search.hpp"
 #include "engine/physics/bond_loops.hpp"
 #include "geometry/mesh_points.hpp"
+#include "geometry/mirror_layer.hpp"
 #include "geometry/point_checks.hpp"
 #include "tools/scene/points_file.hpp"
 
@@ -84,6 +85,64 @@ void check_points(const Scene& s, const geometry::PointSet& pts) {
                      point_text(pts.position[j], dim), pts.part[i] + 1, pts.part[j] + 1),
          "particles at distinct positions (closer than 1e-6 of their spacing counts as one place)");
   }
+}
+
+/// The layer of boundary condition `k` (a `fictitious_layer`): the body's points `pts` within one
+/// horizon of the face, mirrored (docs/theory.md §23), appended to `all`. Refused
+/// where the face is not flat within that width: a part that is not a lattice box, or whose box
+/// stops short of the face.
+FictitiousLayerSpec fictitious_layer(const Scene& s, std::size_t k, const geometry::PointSet& pts,
+                                     geometry::PointSet& all) {
+  const auto& bc = s.boundary_conditions[k];
+  const int axis = bc.bc.layer_axis, side = bc.bc.layer_side;
+  const double face = geometry::face_coordinate(pts, axis, side);
+  double spacing = 0.0, largest = 0.0;
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    largest = std::max(largest, pts.spacing[i]);
+    if (std::abs(face - pts.position[i][axis]) <= 0.5 * pts.spacing[i] * (1 + 1e-9))
+      spacing = std::max(spacing, pts.spacing[i]);
+  }
+  const double width =
+      2.0 * s.horizon_factor * (s.model == ForceModel::ConstantHorizon ? largest : spacing);
+  FictitiousLayerSpec spec;
+  spec.axis = axis;
+  spec.side = side;
+  spec.condition = k;
+  const auto layer = geometry::mirror_layer(pts, axis, side, width, spec.mirrors);
+  const Location where{bc.where.file, bc.where.line, bc.where.path + ".fictitious_layer"};
+  for (const auto m : spec.mirrors) {
+    const auto& part = s.body[static_cast<std::size_t>(pts.part[static_cast<std::size_t>(m)])];
+    const bool box = part.kind == PartKind::Lattice &&
+                     part.shape.node(part.shape.root()).kind == geometry::Shape::Kind::Box;
+    const auto bounds = part.shape.bounds(s.dimension);
+    const double reach = side > 0 ? bounds.max[axis] : bounds.min[axis];
+    if (!box || std::abs(reach - face) > 1e-9 * std::max(1.0, std::abs(face)))
+      fail(where,
+           fmt::format("the body's face at {} = {:.6g} is not flat within one horizon ({:.6g} m): "
+                       "part {} {}",
+                       "xyz"[axis], face, width, pts.part[static_cast<std::size_t>(m)] + 1,
+                       box ? fmt::format("stops at {:.6g}", reach) : "is not a lattice box"),
+           "a face of the body's bounding box that lattice boxes reach (a curved or stepped "
+           "boundary cannot be mirrored: use region conditions there)");
+  }
+  const auto first = static_cast<std::int32_t>(all.size());
+  for (std::size_t i = 0; i < layer.size(); ++i) {
+    all.position.push_back(layer.position[i]);
+    all.cell_measure.push_back(layer.cell_measure[i]);
+    all.spacing.push_back(layer.spacing[i]);
+    all.material.push_back(layer.material[i]);
+    all.part.push_back(layer.part[i]);
+    spec.points.push_back(first + static_cast<std::int32_t>(i));
+  }
+  if (bc.bc.kind == BoundaryCondition::Kind::Traction) {
+    spec.rule = FictitiousLayerSpec::Rule::Traction;
+    spec.traction = bc.bc.traction;
+  } else {
+    spec.displacement = bc.bc.displacement;
+    if (bc.bc.kind == BoundaryCondition::Kind::Fixed)
+      for (int a = 0; a < s.dimension; ++a) spec.displacement[a] = 0.0;
+  }
+  return spec;
 }
 
 }  // namespace
@@ -159,9 +218,14 @@ SimulationSetup build_setup(const Scene& s) {
     setup.initial_conditions.push_back(ic.ic);
   }
   for (const auto& bc : s.boundary_conditions) {
-    require_particles(setup.points, bc.bc.region, s.dimension, bc.where);
+    if (bc.bc.layer_axis < 0) require_particles(setup.points, bc.bc.region, s.dimension, bc.where);
     setup.boundary_conditions.push_back(bc.bc);
   }
+  // Mirrored from the body alone, after every region selected its particles.
+  const auto body = setup.points;
+  for (std::size_t k = 0; k < s.boundary_conditions.size(); ++k)
+    if (s.boundary_conditions[k].bc.layer_axis >= 0)
+      setup.layers.push_back(fictitious_layer(s, k, body, setup.points));
   setup.effects = s.effects;
   setup.effects.refinement = s.refinement.has_value();
   // The body is the union of its lattice parts' shapes: children outside it are not created.

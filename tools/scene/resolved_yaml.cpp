@@ -185,8 +185,14 @@ void emit_initial_conditions(YAML::Emitter& out, const Scene& s) {
 
 void emit_boundary_condition(YAML::Emitter& out, const BoundaryCondition& bc, int dim) {
   const auto axes = detail::axis_names(dim);
-  out << YAML::BeginMap << YAML::Key << "region" << YAML::Value;
-  emit_region(out, bc.region, dim);
+  out << YAML::BeginMap;
+  if (bc.layer_axis >= 0) {
+    out << YAML::Key << "fictitious_layer" << YAML::Value
+        << axes[bc.layer_axis] + (bc.layer_side > 0 ? "_max" : "_min");
+  } else {
+    out << YAML::Key << "region" << YAML::Value;
+    emit_region(out, bc.region, dim);
+  }
   switch (bc.kind) {
     case BoundaryCondition::Kind::Velocity:
     case BoundaryCondition::Kind::Displacement: {
@@ -204,7 +210,7 @@ void emit_boundary_condition(YAML::Emitter& out, const BoundaryCondition& bc, in
       break;
     case BoundaryCondition::Kind::Traction:
       emit_optional_point(out, "traction", bc.traction, dim);
-      out << YAML::Key << "normal" << YAML::Value << axes[bc.normal_axis];
+      if (bc.layer_axis < 0) out << YAML::Key << "normal" << YAML::Value << axes[bc.normal_axis];
       break;
   }
   out << YAML::EndMap;

@@ -79,10 +79,32 @@ InitialCondition read_initial_condition(const Cursor& c, int dim) {
   return ic;
 }
 
+/// `fictitious_layer`: the face of the body's bounding box, x_min, x_max, y_min, ... .
+void read_layer_face(const Cursor& c, int dim, BoundaryCondition& bc) {
+  std::vector<std::string> faces;
+  for (const auto& axis : axis_names(dim))
+    faces.push_back(axis + "_min"), faces.push_back(axis + "_max");
+  const auto k = static_cast<int>(c.choice(faces, "face"));
+  bc.layer_axis = k / 2;
+  bc.layer_side = k % 2 == 0 ? -1 : 1;
+}
+
 BoundaryCondition read_boundary_condition(const Cursor& c, int dim) {
-  const MapView map(c, {"region", "velocity", "fixed", "traction", "normal", "displacement"});
+  const MapView map(
+      c, {"region", "velocity", "fixed", "traction", "normal", "displacement", "fictitious_layer"});
   BoundaryCondition bc;
-  bc.region = read_shape(map.require("region"), dim);
+  const auto layer = map.get("fictitious_layer");
+  if (layer) {
+    read_layer_face(*layer, dim, bc);
+    if (const auto region = map.get("region"))
+      region->fail("a fictitious layer lies outside the body's face: it takes no region",
+                   "fictitious_layer: FACE, or region: SHAPE");
+    if (const auto v = map.get("velocity"))
+      v->fail("a fictitious layer holds displacements or tractions",
+              "fixed, displacement or traction");
+  } else {
+    bc.region = read_shape(map.require("region"), dim);
+  }
   const std::vector<std::string> kinds{"velocity", "fixed", "traction", "displacement"};
   const auto given =
       std::count_if(kinds.begin(), kinds.end(), [&](const std::string& k) { return map.has(k); });
@@ -92,8 +114,9 @@ BoundaryCondition read_boundary_condition(const Cursor& c, int dim) {
                         "condition",
            join(kinds));
   }
-  if (map.has("normal") && !map.has("traction"))
-    map.get("normal")->fail("normal is only used with traction");
+  if (map.has("normal") && (!map.has("traction") || layer))
+    map.get("normal")->fail(layer ? "a fictitious layer's normal is its face's axis"
+                                  : "normal is only used with traction");
   if (const auto v = map.get("velocity")) {
     bc.kind = BoundaryCondition::Kind::Velocity;
     bc.velocity = read_held_components(*v, dim, "velocity");
@@ -107,7 +130,8 @@ BoundaryCondition read_boundary_condition(const Cursor& c, int dim) {
   } else {
     bc.kind = BoundaryCondition::Kind::Traction;
     bc.traction = map.get("traction")->point(dim);
-    bc.normal_axis = static_cast<int>(map.require("normal").choice(axis_names(dim)));
+    bc.normal_axis =
+        layer ? bc.layer_axis : static_cast<int>(map.require("normal").choice(axis_names(dim)));
   }
   return bc;
 }
