@@ -374,12 +374,12 @@ TEST(FictitiousLayers, SceneRefusesWhatALayerCannotMean) {
   refused(head +
               "  - {shape: disk, center: [0.5, 0.5], radius: 0.5, spacing: 0.05, material: m}\n" +
               "boundary_conditions:\n  - {fictitious_layer: x_max, fixed: true}\n" + tail,
-          "boundary_conditions.0.fictitious_layer: the body's face at x = 1 is not flat within one "
+          "boundary_conditions.0.fictitious_layer: the body's face at x = 1 is not flat within two "
           "horizon");
   refused(head + square +
               "  - {shape: box, min: [1, 0], max: [1.1, 0.5], spacing: 0.05, material: m}\n" +
               "boundary_conditions:\n  - {fictitious_layer: x_max, fixed: true}\n" + tail,
-          "not flat within one horizon");
+          "not flat within two horizons");
   refused(head + square +
               "boundary_conditions:\n  - {fictitious_layer: x_max, velocity: {x: 1.0}}\n" + tail,
           "boundary_conditions.0.velocity: a fictitious layer holds displacements or tractions");

@@ -1,15 +1,18 @@
 #!/usr/bin/python3
-"""The state-based plate cases against the finite-element reference (issue 17, item 6).
+"""The state-based plate cases against the finite-element reference (issue 17, item 6; the
+tension cases: issue 18).
 
     check_fe_plate.py --dhpd BIN --out DIR fast|ranking|calculix
 
-`fast` (every test run, ~15 s): ordinary state-based (OSB) δ = 3Δx and correspondence (NOSB)
+`fast` (every test run, ~25 s): ordinary state-based (OSB) δ = 3Δx and correspondence (NOSB)
 δ = 1Δx, 2Δx on cases/plate_vibration.yaml, and both on cases/cutout_plate_vibration.yaml,
+cases/plate_tension.yaml and cases/cutout_plate_tension.yaml (statics, fictitious layers),
 against tests/data/fe/*.csv: the RMS difference of u and v over the run (or over the field at
-4e-4 s) within the bounds below, as a fraction of the reference's peak.
-`ranking` (label verification): δ = 1..5 Δx for both families, the two-region grids and the
-Δx = 0.005 m grids (where NOSB 2Δx and the cut-out's v come within 5 %); the papers' ranking
-(OSB best at 3-4Δx, NOSB at 1-2Δx) must come out.
+4e-4 s, or along y = 0 and x = 0 at equilibrium) within the bounds below, as a fraction of the
+reference's peak.
+`ranking` (label verification): δ = 1..5 Δx for both families on the vibrating and the pulled
+plate, the two-region grids and the Δx = 0.005 m grids (where NOSB 2Δx and the cut-out's v come
+within 5 %); the papers' ranking (OSB best at 3-4Δx, NOSB at 1-2Δx) must come out for both.
 `calculix` (label verification): the reference computed again with CalculiX
 (tools/python/fe_reference.py; Debian calculix-ccx) equals the committed files.
 """
@@ -25,6 +28,11 @@ import fe_compare  # noqa: E402
 
 PLATE = os.path.join(SOURCE, "cases", "plate_vibration.yaml")
 CUTOUT = os.path.join(SOURCE, "cases", "cutout_plate_vibration.yaml")
+TENSION = os.path.join(SOURCE, "cases", "plate_tension.yaml")
+CUTOUT_TENSION = os.path.join(SOURCE, "cases", "cutout_plate_tension.yaml")
+# The field each scene is compared on (None: the probe's history against plate_vibration.csv).
+FIELD_REFERENCE = {CUTOUT: "cutout_vibration.csv", TENSION: "plate_tension.csv",
+                   CUTOUT_TENSION: "cutout_tension.csv"}
 DATA = os.path.join(SOURCE, "tests", "data", "fe")
 NOSB = ["model.family=correspondence"]
 TWO_REGIONS = ["body.1.spacing=0.005"]
@@ -32,29 +40,41 @@ TWO_REGIONS = ["body.1.spacing=0.005"]
 # (name, scene, overrides, bound on the u and v errors). Measured (Δx = 0.01 m): OSB δ = 3Δx
 # 0.020 / 0.027; NOSB δ = 1Δx 0.025 / 0.037, δ = 2Δx 0.038 / 0.063 (its late phase lag; 0.019 /
 # 0.030 at Δx = 0.005 m): docs/verification.md, "Plate vibration against finite elements".
+# Tension (statics, fictitious layers; issue 18 asks 3 % of the peak): plate OSB 3Δx 0.0003 /
+# 0.0018, NOSB 2Δx 0.00006 / 0.00004; cut-out OSB 0.0024 / 0.0069, NOSB 0.0127 / 0.0145.
 FAST = [
     ("osb_3dx", PLATE, ["horizon.factor=3"], 0.05),
     ("nosb_1dx", PLATE, NOSB + ["horizon.factor=1"], 0.05),
     ("nosb_2dx", PLATE, NOSB + ["horizon.factor=2"], 0.075),
     ("cutout_osb_3dx", CUTOUT, ["horizon.factor=3"], 0.075),
     ("cutout_nosb_2dx", CUTOUT, NOSB + ["horizon.factor=2"], 0.075),
+    ("tension_osb_3dx", TENSION, ["horizon.factor=3"], 0.03),
+    ("tension_nosb_2dx", TENSION, NOSB + ["horizon.factor=2"], 0.03),
+    ("cutout_tension_osb_3dx", CUTOUT_TENSION, ["horizon.factor=3"], 0.03),
+    ("cutout_tension_nosb_2dx", CUTOUT_TENSION, NOSB + ["horizon.factor=2"], 0.03),
 ]
 
 
-def run(dhpd, out, scene, overrides):
+def run(dhpd, out, scene, overrides, allow_unconverged=False):
+    """Runs the scene; a static run that did not converge (exit 3) returns False when allowed."""
     cmd = [dhpd, "run", scene, "--out", out, "--quiet", "--overwrite"]
     for o in overrides:
         cmd += ["--set", o]
     done = subprocess.run(cmd, capture_output=True, text=True)
+    if done.returncode == 3 and allow_unconverged and "did not converge" in done.stderr:
+        return False
     if done.returncode != 0:
         sys.exit(f"{' '.join(cmd)}: exit {done.returncode}\n{done.stderr}")
+    return True
 
 
-def errors(dhpd, root, name, scene, overrides):
+def errors(dhpd, root, name, scene, overrides, allow_unconverged=False):
+    """The run's errors; a static run that did not converge counts as error 1 in u and v."""
     out = os.path.join(root, name)
-    run(dhpd, out, scene, overrides)
-    if scene == CUTOUT:
-        return fe_compare.field_errors(out, os.path.join(DATA, "cutout_vibration.csv"))
+    if not run(dhpd, out, scene, overrides, allow_unconverged):
+        return {"ux": 1.0, "uy": 1.0, "unconverged": True}
+    if scene in FIELD_REFERENCE:
+        return fe_compare.field_errors(out, os.path.join(DATA, FIELD_REFERENCE[scene]))
     return fe_compare.probe_errors(out, os.path.join(DATA, "plate_vibration.csv"))
 
 
@@ -69,21 +89,31 @@ def fast(dhpd, root):
     return failures
 
 
-def ranking(dhpd, root):
+def horizon_ranking(dhpd, root, scene, label):
+    """δ = 1..5 Δx for both families on `scene`: the papers' ranking, and NOSB's error growing
+    with δ beyond 2Δx (OSB at 1Δx does not settle in the static case: counted as error 1)."""
     failures = []
     table = {}
     for family, extra in (("osb", []), ("nosb", NOSB)):
         for n in range(1, 6):
-            e = errors(dhpd, root, f"{family}_{n}dx", PLATE, extra + [f"horizon.factor={n}"])
+            e = errors(dhpd, root, f"{label}_{family}_{n}dx", scene, extra + [f"horizon.factor={n}"],
+                       allow_unconverged=True)
             table[(family, n)] = e["ux"] + e["uy"]
-            print(f"{family:5s} δ = {n}Δx  u {e['ux']:.4f}  v {e['uy']:.4f}")
+            note = "  (did not converge)" if e.get("unconverged") else ""
+            print(f"{label} {family:5s} δ = {n}Δx  u {e['ux']:.5f}  v {e['uy']:.5f}{note}")
     best_osb = min(range(1, 6), key=lambda n: table[("osb", n)])
     best_nosb = min(range(1, 6), key=lambda n: table[("nosb", n)])
-    print(f"best: OSB δ = {best_osb}Δx (papers: 3-4), NOSB δ = {best_nosb}Δx (papers: 1-2)")
-    failures += [] if best_osb in (3, 4) else ["OSB ranking"]
-    failures += [] if best_nosb in (1, 2) else ["NOSB ranking"]
+    print(f"{label} best: OSB δ = {best_osb}Δx (papers: 3-4), NOSB δ = {best_nosb}Δx (papers: 1-2)")
+    failures += [] if best_osb in (3, 4) else [f"{label} OSB ranking"]
+    failures += [] if best_nosb in (1, 2) else [f"{label} NOSB ranking"]
     if not table[("nosb", 2)] < table[("nosb", 3)] < table[("nosb", 4)]:
-        failures.append("NOSB error grows with δ beyond 2Δx")
+        failures.append(f"{label} NOSB error grows with δ beyond 2Δx")
+    return failures
+
+
+def ranking(dhpd, root):
+    failures = horizon_ranking(dhpd, root, PLATE, "vibration")
+    failures += horizon_ranking(dhpd, root, TENSION, "tension")
     fine = ["body.0.spacing=0.005"]
     for name, scene, extra, bound in (
             ("two_regions_osb_3dx", PLATE, ["horizon.factor=3"] + TWO_REGIONS, 0.05),
@@ -91,7 +121,9 @@ def ranking(dhpd, root):
             ("fine_nosb_2dx", PLATE, NOSB + ["horizon.factor=2"] + fine + ["body.1.spacing=0.005"],
              0.05),
             ("cutout_fine_osb_3dx", CUTOUT, ["horizon.factor=3"] + fine, 0.05),
-            ("cutout_fine_nosb_2dx", CUTOUT, NOSB + ["horizon.factor=2"] + fine, 0.05)):
+            ("cutout_fine_nosb_2dx", CUTOUT, NOSB + ["horizon.factor=2"] + fine, 0.05),
+            ("tension_two_regions_osb_3dx", TENSION, ["horizon.factor=3"] + fine, 0.03),
+            ("tension_two_regions_nosb_2dx", TENSION, NOSB + ["horizon.factor=2"] + fine, 0.03)):
         e = errors(dhpd, root, name, scene, extra)
         ok = e["ux"] <= bound and e["uy"] <= bound
         print(f"{name}: u {e['ux']:.4f}  v {e['uy']:.4f}  bound {bound}  {'ok' if ok else 'FAILED'}")
@@ -125,7 +157,9 @@ def calculix(root):
     print(f"CalculiX bar (ν = 0, 0.05 m) against the closed form: {error:.4f} of the peak")
     failures += [] if error < 0.025 else ["the FE pipeline against the bar's closed form"]
     for case, file in (("plate-vibration", "plate_vibration.csv"),
-                       ("cutout-vibration", "cutout_vibration.csv")):
+                       ("cutout-vibration", "cutout_vibration.csv"),
+                       ("plate-tension", "plate_tension.csv"),
+                       ("cutout-tension", "cutout_tension.csv")):
         out = os.path.join(root, file)
         done = subprocess.run(["/usr/bin/python3", os.path.join(SOURCE, "tools", "python",
                                                                 "fe_reference.py"), case, "-o", out])

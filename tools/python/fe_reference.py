@@ -4,8 +4,11 @@
 
   fe_reference.py plate-vibration  -o tests/data/fe/plate_vibration.csv
   fe_reference.py cutout-vibration -o tests/data/fe/cutout_vibration.csv
+  fe_reference.py plate-tension    -o tests/data/fe/plate_tension.csv
+  fe_reference.py cutout-tension   -o tests/data/fe/cutout_tension.csv
   (--size H --dt DT for a convergence check; --keep DIR keeps the deck and CalculiX's files;
-   the committed files: the defaults, 0.01 m elements, dt = 5e-7 s, about 6 and 2 minutes)
+   the committed files: the defaults, 0.01 m elements, dt = 5e-7 s, about 6 and 2 minutes for
+   the vibrations, seconds for the static cases)
 
 The problem (horizon-size paper §5.1 and §5.5.2; Euler–Lagrange paper §5.2): a 1 m × 1 m plate,
 plane stress, E = 200 GPa, ν = 0.25, ρ = 7850 kg/m³, centred at the origin, its left edge
@@ -17,6 +20,11 @@ release of the free edges' tractions as a step load (for the linear u0, −K u0 
 load: the patch test), integrated by Newmark's average acceleration (newmark). Written: u(t),
 v(t) at (0.255, 0.255) m every 1 µs (bilinear in its element), or the cut-out's field at
 t = 4e-4 s on every other particle centre of the Δx = 0.01 m plate.
+
+The tension cases (horizon-size paper §5.2 and §5.5.1; Euler–Lagrange paper §5.1): the same
+plate, its left edge clamped, pulled by σ = 200 MPa on its right edge x = 0.5 (consistent nodal
+forces), solved statically (K u = f); written: u_x, u_y along y = 0 and along x = 0 every 0.01 m
+(the particle rows of the Δx = 0.01 m plate lie 0.005 m either side), outside the hole.
 """
 import argparse
 import os
@@ -36,7 +44,11 @@ CASES = {
     # name: (hole side, end time, field output at the end instead of the probe's history)
     "plate-vibration": (0.0, 1.0e-3, False),
     "cutout-vibration": (0.4, 4.0e-4, True),
+    # static: (hole side, None, lines y = 0 and x = 0)
+    "plate-tension": (0.0, None, True),
+    "cutout-tension": (0.4, None, True),
 }
+STRESS = 200.0e6  # Pa on the right edge of the tension cases
 SAMPLE = 1.0e-6  # s between the written samples
 FIELD_SPACING = 0.02  # field points: every other particle centre of the Δx = 0.01 m plate
 
@@ -186,14 +198,25 @@ def main():
     parser.add_argument("--nu", type=float, default=NU, help="Poisson's ratio (checks only)")
     a = parser.parse_args()
     hole, end, with_field = CASES[a.case]
+    if end is None:
+        at = line_points(hole)
+        elements, samples = solve_tension(a, hole, at)
+        write_csv(a, hole, elements, None, samples, at)
+        return
     at = field_points(hole) if with_field else [PROBE]
     elements, energy, samples = solve(a, hole, end, at)
     write_csv(a, hole, elements, energy, samples, at)
 
 
-def solve(a, hole, end, at):
-    """(element count, initial strain energy, [(t, [(ux, uy) at each of `at`])]): samples every
-    SAMPLE seconds for a probe, the last step only for a field."""
+def line_points(hole):
+    """Every 0.01 m along y = 0 and along x = 0 (x, y = −0.495 … 0.495), outside the hole."""
+    line = [-HALF + 0.005 + 0.01 * k for k in range(100)]
+    points = [(x, 0.0) for x in line] + [(0.0, y) for y in line]
+    return [(x, y) for x, y in points if not (abs(x) < hole / 2 and abs(y) < hole / 2)]
+
+
+def matrices(a, hole):
+    """The mesh, CalculiX's K and M, the equations' (node, direction) and the node ids."""
     nodes, elements = lattice(a.size, hole)
     work = a.keep or tempfile.mkdtemp(prefix="dhpd-fe-")
     os.makedirs(work, exist_ok=True)
@@ -202,6 +225,41 @@ def solve(a, hole, end, at):
     K, M, dofs = read_matrices(work)
     if not a.keep:
         shutil.rmtree(work)
+    return nodes, elements, ids, top, K, M, dofs
+
+
+def solve_tension(a, hole, at):
+    """(element count, [(0, [(ux, uy) at each of `at`])]) of K u = f, f the consistent nodal
+    forces of σ on the right face of the half-thickness model (σ × its area, a quarter of each
+    face element's to each corner). Checked: far from the clamp (x from 0.1 to 0.4 on y = 0 of the
+    plate without a hole) the strain is σ/E to 2 %."""
+    nodes, elements, ids, top, K, _, dofs = matrices(a, hole)
+    equation = {d: k for k, d in enumerate(dofs)}
+    f = np.zeros(len(dofs))
+    share = STRESS * a.size * (THICKNESS / 2) / 4
+    for (i, j), (x, y) in nodes.items():
+        if abs(x - HALF) > 1e-12:
+            continue
+        faces = sum(1 for dj in (-1, 0) if (i, j + dj) in nodes and (i, j + dj + 1) in nodes)
+        for node in (ids[(i, j)], ids[(i, j)] + top):
+            f[equation[(node, 1)]] += share * faces
+    u = spla.spsolve(K.tocsc(), f)
+    weights = [probe_weights(nodes, a.size, point) for point in at]
+    rows = {c: (equation.get((ids[c], 1)), equation.get((ids[c], 2))) for w in weights for c in w}
+    values = in_plane(u, rows, weights)
+    if hole == 0.0:
+        middle = [(x, v[0]) for (x, y), v in zip(at, values) if y == 0.0 and 0.1 <= x <= 0.4]
+        slope = np.polyfit([m[0] for m in middle], [m[1] for m in middle], 1)[0]
+        if abs(slope / (STRESS / E) - 1) > 0.02:
+            sys.exit(f"fe_reference: strain {slope:.6g} on y = 0, σ/E = {STRESS / E:.6g}: the "
+                     "load or the matrices are wrong")
+    return len(elements), [(0.0, values)]
+
+
+def solve(a, hole, end, at):
+    """(element count, initial strain energy, [(t, [(ux, uy) at each of `at`])]): samples every
+    SAMPLE seconds for a probe, the last step only for a field."""
+    nodes, elements, ids, top, K, M, dofs = matrices(a, hole)
     coordinates = {ids[c]: (x, y, 0.0) for c, (x, y) in nodes.items()}
     coordinates.update({ids[c] + top: (x, y, THICKNESS / 2) for c, (x, y) in nodes.items()})
     u0 = initial_field(dofs, coordinates, a.nu)
@@ -234,13 +292,19 @@ def plane_stress_energy(hole, nu):
 
 
 def write_csv(a, hole, elements, energy, samples, at):
-    analytic = plane_stress_energy(hole, a.nu)
     with open(a.out, "w") as f:
-        f.write(f"# CalculiX {shutil.which('ccx')}: C3D8I, element size {a.size} m, {elements} "
-                f"elements; Newmark average acceleration, dt {a.dt} s; E {E:g} Pa, nu {a.nu}, "
-                f"rho {RHO}, strain {STRAIN}, hole {hole} m\n"
-                f"# initial strain energy {energy:.6g} J (plane stress {analytic:.6g} J)\n"
-                "# written by tools/python/fe_reference.py; time from the release\n")
+        if energy is None:
+            f.write(f"# CalculiX {shutil.which('ccx')}: C3D8I, element size {a.size} m, "
+                    f"{elements} elements; static, sigma {STRESS:g} Pa on x = 0.5, x = -0.5 "
+                    f"clamped; E {E:g} Pa, nu {a.nu}, hole {hole} m\n"
+                    "# written by tools/python/fe_reference.py\n")
+        else:
+            analytic = plane_stress_energy(hole, a.nu)
+            f.write(f"# CalculiX {shutil.which('ccx')}: C3D8I, element size {a.size} m, "
+                    f"{elements} elements; Newmark average acceleration, dt {a.dt} s; E {E:g} "
+                    f"Pa, nu {a.nu}, rho {RHO}, strain {STRAIN}, hole {hole} m\n"
+                    f"# initial strain energy {energy:.6g} J (plane stress {analytic:.6g} J)\n"
+                    "# written by tools/python/fe_reference.py; time from the release\n")
         if len(at) > 1:
             time, values = samples[-1]
             f.write(f"# field at t = {time:.6g} s, bilinear in the elements\nx,y,ux,uy\n")

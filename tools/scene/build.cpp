@@ -89,8 +89,7 @@ void check_points(const Scene& s, const geometry::PointSet& pts) {
 
 /// The layer of boundary condition `k` (a `fictitious_layer`): the body's points `pts` within one
 /// horizon of the face, mirrored (docs/theory.md §23), appended to `all`. Refused
-/// where the face is not flat within that width: a part that is not a lattice box, or whose box
-/// stops short of the face.
+/// where the face is not flat within that width.
 FictitiousLayerSpec fictitious_layer(const Scene& s, std::size_t k, const geometry::PointSet& pts,
                                      geometry::PointSet& all) {
   const auto& bc = s.boundary_conditions[k];
@@ -110,20 +109,23 @@ FictitiousLayerSpec fictitious_layer(const Scene& s, std::size_t k, const geomet
   spec.condition = k;
   const auto layer = geometry::mirror_layer(pts, axis, side, width, spec.mirrors);
   const Location where{bc.where.file, bc.where.line, bc.where.path + ".fictitious_layer"};
+  // Flat: each mirrored particle's part is a lattice whose shape holds the face's point on the
+  // particle's line (a disk's or a stepped body's points near the plane do not reach it).
   for (const auto m : spec.mirrors) {
-    const auto& part = s.body[static_cast<std::size_t>(pts.part[static_cast<std::size_t>(m)])];
-    const bool box = part.kind == PartKind::Lattice &&
-                     part.shape.node(part.shape.root()).kind == geometry::Shape::Kind::Box;
-    const auto bounds = part.shape.bounds(s.dimension);
-    const double reach = side > 0 ? bounds.max[axis] : bounds.min[axis];
-    if (!box || std::abs(reach - face) > 1e-9 * std::max(1.0, std::abs(face)))
+    const auto part_index = static_cast<std::size_t>(pts.part[static_cast<std::size_t>(m)]);
+    const auto& part = s.body[part_index];
+    auto at_face = pts.position[static_cast<std::size_t>(m)];
+    at_face[axis] = face - side * 1e-9 * std::max(1.0, std::abs(face));
+    if (part.kind != PartKind::Lattice || !part.shape.contains(at_face, s.dimension))
       fail(where,
-           fmt::format("the body's face at {} = {:.6g} is not flat within one horizon ({:.6g} m): "
-                       "part {} {}",
-                       "xyz"[axis], face, width, pts.part[static_cast<std::size_t>(m)] + 1,
-                       box ? fmt::format("stops at {:.6g}", reach) : "is not a lattice box"),
-           "a face of the body's bounding box that lattice boxes reach (a curved or stepped "
-           "boundary cannot be mirrored: use region conditions there)");
+           fmt::format("the body's face at {} = {:.6g} is not flat within two horizons ({:.6g} "
+                       "m): part {} {} at {}",
+                       "xyz"[axis], face, width, part_index + 1,
+                       part.kind != PartKind::Lattice ? "is not a lattice, its particle"
+                                                      : "does not reach the face from its particle",
+                       point_text(pts.position[static_cast<std::size_t>(m)], s.dimension)),
+           "a face of the body's bounding box that lattice parts reach straight (a curved or "
+           "stepped boundary cannot be mirrored: use region conditions there)");
   }
   const auto first = static_cast<std::int32_t>(all.size());
   for (std::size_t i = 0; i < layer.size(); ++i) {
