@@ -38,6 +38,8 @@ Simulation::Simulation(SimulationSetup setup)
   dt_ = setup_.statics ? 1.0 / static_cast<double>(setup_.load_steps)
                        : setup_.fixed_dt.value_or(setup_.safety * critical_dt_);
   loads_ = resolve_loads(setup_.boundary_conditions, p_);
+  for (const auto& bc : setup_.boundary_conditions)
+    for (const auto& f : bc.in_time) has_time_functions_ = has_time_functions_ || !f.empty();
   first_layer_entry_ = loads_.prescribed.size();
   for (const auto& layer : layers_)  // held, not integrated: their displacements follow the rule
     for (const auto i : layer.particle) {
@@ -45,8 +47,10 @@ Simulation::Simulation(SimulationSetup setup)
       loads_.mask.push_back({1, 1, 1});
       loads_.prescribed_velocity.push_back({0, 0, 0});
       loads_.prescribed_displacement.push_back({0, 0, 0});
+      loads_.condition.push_back(-1);
     }
-  apply_prescribed_displacement(loads_, load_factor(), p_);
+  apply_prescribed_displacement(loads_, setup_.boundary_conditions, load_factor(),
+                                setup_.statics ? load_factor() : time_, p_);
   enforce_prescribed_velocity();
   apply_layers();
   compute_forces();
@@ -220,6 +224,18 @@ double Simulation::boundary_power() const {
   return power;
 }
 
+double Simulation::held_kinetic_energy() const {
+  double energy = 0.0;
+  for (std::size_t k = 0; k < loads_.prescribed.size(); ++k) {
+    const auto i = loads_.prescribed[k];
+    for (int a = 0; a < p_.dim(); ++a)
+      if (loads_.mask[k][a])
+        energy +=
+            0.5 * p_.density[i] * p_.volume[i] * std::pow(loads_.prescribed_velocity[k][a], 2);
+  }
+  return energy;
+}
+
 Simulation::HeldState Simulation::held_state(std::size_t first) const {
   HeldState h;
   h.first = first;
@@ -253,6 +269,12 @@ void Simulation::step(StepExtras extras) {
     time_ = load_factor();  // k / load_steps exactly, not a sum of steps
     bond_updates_ += evaluated * (relaxation_report_.iterations + relaxation_report_.rounds + 1);
     return;
+  }
+  if (has_time_functions_) {
+    // The supports also accelerate what they hold: that work is the held kinetic energy's change.
+    const double before = held_kinetic_energy();
+    update_prescribed_velocity(loads_, setup_.boundary_conditions, time_, dt_);
+    external_work_ += held_kinetic_energy() - before;
   }
   const double body_work = levels_ ? multirate_step(extras, evaluated) : verlet_step(extras);
   finish_step(body_work);

@@ -310,6 +310,8 @@ class Simulation {
     std::vector<double> reaction, displacement;
   };
   HeldState held_state(std::size_t first) const;
+  /// Σ ½ m v² of the prescribed velocities of the held components.
+  double held_kinetic_energy() const;
   /// ½ (R_before + R_now) · (u_now − u_before) over the held components of `before`.
   double held_work(const HeldState& before) const;
   /// One static load step (simulation_static.cpp): the extras run first; returns the body
@@ -407,6 +409,7 @@ class Simulation {
   RelaxationReport relaxation_report_;  ///< not archived: the last load step's
   std::vector<ResolvedLayer> layers_;   ///< derived from the setup and the ids
   std::size_t first_layer_entry_ = 0;   ///< loads_.prescribed entries of layers start here
+  bool has_time_functions_ = false;     ///< a prescribed component is a function of time
   std::int32_t next_id_ = 0;
   InterfaceCorrection initial_interfaces_;
 };

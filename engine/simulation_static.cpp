@@ -109,7 +109,8 @@ double Simulation::static_step(const StepExtras& extras) {
     for (int a = 0; a < dim; ++a)
       start[dim * k + a] = p_.displacement[a][static_cast<std::size_t>(loads_.loaded[k])];
   const auto held_before = held_state(0);  // the last equilibrium's reactions and displacements
-  apply_prescribed_displacement(loads_, load_factor(), p_);
+  apply_prescribed_displacement(loads_, setup_.boundary_conditions, load_factor(), load_factor(),
+                                p_);
   RelaxationState state;
   state.tau2 = relaxation_steps();
   state.held = prescribed_axes(loads_, p_.size());

@@ -26,7 +26,8 @@ namespace dhpd {
 // 6: the rows are built again from the particles on loading: only each row's entry count, the
 //    entries' flags and factors (row order) and the stiffness scale are stored;
 // 7: the payload in LZ4 blocks;
-// 8: the loads hold each prescribed entry's displacement (static runs, displacement conditions).
+// 8: the loads hold each prescribed entry's displacement and condition (static runs,
+//    displacement conditions, functions of time).
 constexpr std::uint32_t kCheckpointVersion = 8;
 
 /// The in-memory snapshot of a simulation (every array as it is, row arenas included).

@@ -22,6 +22,7 @@ struct CheckpointAccess {
   static void loads_and_constants(Sim& s, Ar& ar) {
     auto& l = s.loads_;
     ar(l.prescribed), ar(l.mask), ar(l.prescribed_velocity), ar(l.prescribed_displacement);
+    ar(l.condition);
     ar(l.loaded), ar(l.body_force);
     ar(l.condition_body_force);
     ar(s.C_), ar(s.s0_), ar(s.particle_dt_);
@@ -265,6 +266,7 @@ struct CheckpointAccess {
                     in_range(l.loaded, 0, n) && l.mask.size() == l.prescribed.size() &&
                     l.prescribed_velocity.size() == l.prescribed.size() &&
                     l.prescribed_displacement.size() == l.prescribed.size() &&
+                    l.condition.size() == l.prescribed.size() &&
                     l.body_force.size() == l.loaded.size();
     if (!ok) ar.fail("its bond-row or load arrays do not fit together");
   }

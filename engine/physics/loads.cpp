@@ -55,7 +55,8 @@ double layer_depth(const ParticleStore& p, const std::vector<std::int32_t>& laye
 
 namespace {
 /// Which components a velocity or fixed condition prescribes, and to what.
-void prescribe(ResolvedLoads& r, const BoundaryCondition& bc, std::int32_t i, int dim) {
+void prescribe(ResolvedLoads& r, const BoundaryCondition& bc, std::size_t c, std::int32_t i,
+               int dim) {
   std::array<std::uint8_t, 3> m{0, 0, 0};
   Vec3 v{0, 0, 0}, u{0, 0, 0};
   for (int a = 0; a < std::min(dim, 3); ++a) {
@@ -67,6 +68,7 @@ void prescribe(ResolvedLoads& r, const BoundaryCondition& bc, std::int32_t i, in
   r.mask.push_back(m);
   r.prescribed_velocity.push_back(v);
   r.prescribed_displacement.push_back(u);
+  r.condition.push_back(static_cast<std::int32_t>(c));
 }
 
 void add_entry(ResolvedLoads& r, const BoundaryCondition& bc, std::size_t c, std::int32_t i,
@@ -75,7 +77,7 @@ void add_entry(ResolvedLoads& r, const BoundaryCondition& bc, std::size_t c, std
     r.loaded.push_back(i);
     r.body_force.push_back(r.condition_body_force[c]);
   } else {
-    prescribe(r, bc, i, dim);
+    prescribe(r, bc, c, i, dim);
   }
 }
 }  // namespace
@@ -129,6 +131,7 @@ void inherit_loads(ResolvedLoads& r, const std::vector<std::int32_t>& successor,
       r.mask.push_back(r.mask[e->second]);
       r.prescribed_velocity.push_back(r.prescribed_velocity[e->second]);
       r.prescribed_displacement.push_back(r.prescribed_displacement[e->second]);
+      r.condition.push_back(r.condition[e->second]);
     }
   }
 }
@@ -138,15 +141,52 @@ void renumber_loads(ResolvedLoads& r, const std::vector<std::int32_t>& new_index
   for (auto& i : r.prescribed) i = new_index[static_cast<std::size_t>(i)];
 }
 
-void apply_prescribed_displacement(const ResolvedLoads& loads, double factor, ParticleStore& p) {
+double TimeFunction::at(double t) const {
+  if (t <= points.front().first) return points.front().second;
+  if (t >= points.back().first) return points.back().second;
+  const auto next = std::upper_bound(points.begin(), points.end(), t,
+                                     [](double x, const auto& q) { return x < q.first; });
+  const auto& [t1, v1] = *next;
+  const auto& [t0, v0] = *(next - 1);
+  return v0 + (v1 - v0) * (t - t0) / (t1 - t0);
+}
+
+namespace {
+/// The function of time of entry k's component a, or null.
+const TimeFunction* function_of(const ResolvedLoads& loads,
+                                const std::vector<BoundaryCondition>& conditions, std::size_t k,
+                                int a) {
+  const auto c = loads.condition[k];
+  if (c < 0) return nullptr;
+  const auto& f = conditions[static_cast<std::size_t>(c)].in_time[a];
+  return f.empty() ? nullptr : &f;
+}
+}  // namespace
+
+void apply_prescribed_displacement(const ResolvedLoads& loads,
+                                   const std::vector<BoundaryCondition>& conditions, double factor,
+                                   double time, ParticleStore& p) {
   for (std::size_t k = 0; k < loads.prescribed.size(); ++k) {
     const auto i = static_cast<std::size_t>(loads.prescribed[k]);
     for (int a = 0; a < p.dim(); ++a) {
       if (loads.mask[k][a] != kHeldAt) continue;
-      p.displacement[a][i] = factor * loads.prescribed_displacement[k][a];
+      const auto* f = function_of(loads, conditions, k, a);
+      p.displacement[a][i] = f ? f->at(time) : factor * loads.prescribed_displacement[k][a];
       p.position[a][i] = p.reference_position[a][i] + p.displacement[a][i];
     }
   }
+}
+
+void update_prescribed_velocity(ResolvedLoads& loads,
+                                const std::vector<BoundaryCondition>& conditions, double t,
+                                double dt) {
+  for (std::size_t k = 0; k < loads.prescribed.size(); ++k)
+    for (int a = 0; a < 3; ++a) {
+      const auto* f = loads.mask[k][a] ? function_of(loads, conditions, k, a) : nullptr;
+      if (!f) continue;
+      loads.prescribed_velocity[k][a] =
+          loads.mask[k][a] == kHeldAt ? (f->at(t + dt) - f->at(t)) / dt : f->at(t + 0.5 * dt);
+    }
 }
 
 Vec3 reaction_force(const ResolvedLoads& loads, const ParticleStore& p,

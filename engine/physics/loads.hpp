@@ -24,6 +24,15 @@ struct InitialCondition {
   int gaussian_axis = -1;  ///< ≥ 0: exp(−(X_a − center_a)² / width²), a plane pulse along axis a
 };
 
+/// A prescribed value over time (docs/theory.md §11): piecewise linear through (t, value) points
+/// with increasing t, constant before the first and after the last. Empty: not time-dependent.
+struct TimeFunction {
+  std::vector<std::pair<double, double>> points;
+  bool empty() const { return points.empty(); }
+  double at(double t) const;
+  bool operator==(const TimeFunction&) const = default;
+};
+
 struct BoundaryCondition {
   enum class Kind { Velocity, Fixed, Traction, Displacement };
   Kind kind = Kind::Fixed;
@@ -32,6 +41,9 @@ struct BoundaryCondition {
   /// Prescribed components (Displacement), m: held there (dynamics), or reached in proportion to
   /// the load factor (statics, docs/theory.md §22).
   std::array<std::optional<double>, 3> displacement;
+  /// Velocity or Displacement: per component, its value as a function of time (its entry above
+  /// then holds the value at t = 0); in statics, of the load factor.
+  std::array<TimeFunction, 3> in_time;
   Vec3 traction{0, 0, 0};  ///< Pa, spread as a body force over the layer (Traction)
   int normal_axis = 0;     ///< axis normal to the loaded face (Traction)
   /// ≥ 0: the condition acts through a fictitious layer outside the body's face on this axis (at
@@ -52,6 +64,8 @@ struct ResolvedLoads {
   /// Per prescribed entry: the displacement its components are held at under the full load (0
   /// for fixed and velocity conditions).
   std::vector<Vec3> prescribed_displacement;
+  /// Per prescribed entry: the boundary condition it comes from (−1: a fictitious layer's).
+  std::vector<std::int32_t> condition;
   std::vector<std::int32_t> loaded;  ///< particles carrying a body force
   std::vector<Vec3> body_force;      ///< N/m³
   /// Per condition: the body force of a traction (fixed when resolved: the loaded layer keeps its
@@ -77,9 +91,18 @@ void inherit_loads(ResolvedLoads& loads, const std::vector<std::int32_t>& succes
 /// Renumbers every entry: particle i becomes new_index[i].
 void renumber_loads(ResolvedLoads& loads, const std::vector<std::int32_t>& new_index);
 
-/// Sets the prescribed components' displacement to `factor` × their prescribed displacement
-/// (positions follow); velocity conditions are left alone.
-void apply_prescribed_displacement(const ResolvedLoads& loads, double factor, ParticleStore& p);
+/// Sets the prescribed components' displacement to `factor` × their prescribed displacement, or
+/// for a component with a function of time to its value at `time` (positions follow); velocity
+/// conditions are left alone.
+void apply_prescribed_displacement(const ResolvedLoads& loads,
+                                   const std::vector<BoundaryCondition>& conditions, double factor,
+                                   double time, ParticleStore& p);
+
+/// The velocity each time-dependent component is held at over the step from t to t + dt: for a
+/// displacement (u(t + dt) − u(t))/dt, so the step lands on u(t + dt); for a velocity v(t + dt/2).
+void update_prescribed_velocity(ResolvedLoads& loads,
+                                const std::vector<BoundaryCondition>& conditions, double t,
+                                double dt);
 
 /// The force the held components of the particles inside `region` take from their supports:
 /// −Σ V f over those components (f the force density with body forces), N.

@@ -165,6 +165,10 @@ void check_state_family(const MapView& top, const Scene& s);
 /// `solver` (sections/solver.cpp): dynamic, static or {type, tolerance, ...}; and what a static
 /// run refuses (time.end, time.dt, levels, refinement, velocity conditions, classical variable).
 void read_solver(const MapView& top, Scene& s);
+
+/// A held component over time (sections/time_function.cpp): {ramp: T, to: V} or {table: [[t, v],
+/// ...] | FILE.csv} (a file relative to `scene_file`'s folder); times strictly increasing.
+TimeFunction read_time_function(const Cursor& c, const std::string& scene_file);
 void check_static_solver(const MapView& top, const Scene& s);
 
 /// `effects.refinement` (scene_refinement.cpp); body and model must already be read.

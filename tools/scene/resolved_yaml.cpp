@@ -200,8 +200,18 @@ void emit_boundary_condition(YAML::Emitter& out, const BoundaryCondition& bc, in
       const auto& held = velocity ? bc.velocity : bc.displacement;
       out << YAML::Key << (velocity ? "velocity" : "displacement") << YAML::Value << YAML::Flow
           << YAML::BeginMap;
-      for (int a = 0; a < dim; ++a)
-        if (held[a]) out << YAML::Key << axes[a] << YAML::Value << number_text(*held[a]);
+      for (int a = 0; a < dim; ++a) {
+        if (!held[a]) continue;
+        out << YAML::Key << axes[a] << YAML::Value;
+        if (bc.in_time[a].empty()) {
+          out << number_text(*held[a]);
+          continue;
+        }
+        out << YAML::BeginMap << YAML::Key << "table" << YAML::Value << YAML::BeginSeq;
+        for (const auto& [t, v] : bc.in_time[a].points)
+          out << YAML::BeginSeq << number_text(t) << number_text(v) << YAML::EndSeq;
+        out << YAML::EndSeq << YAML::EndMap;
+      }
       out << YAML::EndMap;
       break;
     }

@@ -34,9 +34,11 @@ void refuse_missing_axes(const Cursor& c, int dim) {
   }
 }
 
-/// The held components of a `velocity` or `displacement` condition (`what` names it).
+/// The held components of a `velocity` or `displacement` condition (`what` names it): a number,
+/// or a value over time (its value at t = 0 held, the function in `in_time`).
 std::array<std::optional<double>, 3> read_held_components(const Cursor& c, int dim,
-                                                          std::string_view what) {
+                                                          std::string_view what,
+                                                          std::array<TimeFunction, 3>& in_time) {
   if (!c.node().IsMap())
     c.fail(fmt::format("a held {} is a map of the components it holds, got {} (e.g. "
                        "{}: {{{}: {}}}; a component left out stays free)",
@@ -49,8 +51,16 @@ std::array<std::optional<double>, 3> read_held_components(const Cursor& c, int d
     c.fail(fmt::format("give at least one {} component", what), join(axis_names(dim)));
   std::array<std::optional<double>, 3> held;
   const auto axes = axis_names(dim);
-  for (int a = 0; a < dim; ++a)
-    if (const auto component = map.get(axes[a])) held[a] = component->number();
+  for (int a = 0; a < dim; ++a) {
+    const auto component = map.get(axes[a]);
+    if (!component) continue;
+    if (component->node().IsMap()) {
+      in_time[a] = read_time_function(*component, component->where().file);
+      held[a] = in_time[a].at(0.0);
+    } else {
+      held[a] = component->number();
+    }
+  }
   return held;
 }
 
@@ -119,10 +129,10 @@ BoundaryCondition read_boundary_condition(const Cursor& c, int dim) {
                                   : "normal is only used with traction");
   if (const auto v = map.get("velocity")) {
     bc.kind = BoundaryCondition::Kind::Velocity;
-    bc.velocity = read_held_components(*v, dim, "velocity");
+    bc.velocity = read_held_components(*v, dim, "velocity", bc.in_time);
   } else if (const auto u = map.get("displacement")) {
     bc.kind = BoundaryCondition::Kind::Displacement;
-    bc.displacement = read_held_components(*u, dim, "displacement");
+    bc.displacement = read_held_components(*u, dim, "displacement", bc.in_time);
   } else if (const auto fixed = map.get("fixed")) {
     if (!fixed->boolean())
       fixed->fail("fixed must be true (leave the condition out to keep the region free)", "true");
