@@ -202,6 +202,20 @@ bool Simulation::apply_layers() {
   return !layers_.empty();
 }
 
+Vec3 Simulation::force_across(int axis, double at) const {
+  Vec3 f{0, 0, 0};
+  for (std::size_t i = 0; i < p_.size(); ++i)
+    if (p_.reference_position[axis][i] < at)
+      for (int a = 0; a < p_.dim(); ++a) f[a] += p_.volume[i] * p_.force_density[a][i];
+  const double lambda = load_factor();
+  for (std::size_t k = 0; k < loads_.loaded.size(); ++k) {
+    const auto i = static_cast<std::size_t>(loads_.loaded[k]);
+    if (p_.reference_position[axis][i] < at)
+      for (int a = 0; a < p_.dim(); ++a) f[a] -= p_.volume[i] * lambda * loads_.body_force[k][a];
+  }
+  return f;
+}
+
 Vec3 Simulation::layer_reaction(std::size_t k) const {
   Vec3 r{0, 0, 0};
   for (const auto i : layers_.at(k).particle)

@@ -174,6 +174,11 @@ class Simulation {
   const std::vector<ResolvedLayer>& fictitious_layers() const { return layers_; }
   /// The force layer k puts on the body: −Σ V f over its particles, N.
   Vec3 layer_reaction(std::size_t k) const;
+  /// The force the body beyond the plane X_axis = at puts on the body before it (the sectional
+  /// force of a cut; tension positive along +axis): Σ V (f − b) over the particles with X_axis <
+  /// at, exact for every model since each pair's forces are equal and opposite (docs/theory.md
+  /// §22). Fictitious layers' particles count as body (their pairs are internal forces too).
+  Vec3 force_across(int axis, double at) const;
 
   /// Multi-rate stepping is allowed: time.multirate is not false and the model is conservative.
   bool multirate_enabled() const;

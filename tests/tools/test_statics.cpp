@@ -47,6 +47,7 @@ double slope(const ParticleStore& p, double lo, double hi) {
 
 struct BarResult {
   double soft_strain, stiff_strain, reaction_left, reaction_right;
+  std::vector<double> sections;  ///< force across x = 0.25, 0.5 (the interface), 0.75
 };
 
 BarResult solve_bar(const std::string& model) {
@@ -58,8 +59,10 @@ BarResult solve_bar(const std::string& model) {
   const double reach = 2 * 3.015 * 0.01;
   const auto left = reaction_force(sim->loads(), p, scene.boundary_conditions[0].bc.region);
   const auto right = reaction_force(sim->loads(), p, scene.boundary_conditions[1].bc.region);
+  std::vector<double> sections;
+  for (const double at : {0.25, 0.5, 0.75}) sections.push_back(sim->force_across(0, at)[0]);
   return {slope(p, 0.03 + reach, 0.5 - reach), slope(p, 0.5 + reach, 0.985 - reach), left[0],
-          right[0]};
+          right[0], sections};
 }
 
 // Dual horizons: the strain halves where E doubles and the force is E ε on both sides (the
@@ -73,6 +76,8 @@ TEST(Statics, DualHorizonBimaterialBarIsPiecewiseLinear) {
   EXPECT_NEAR(r.soft_strain / r.reaction_right, 1.0, 0.01);
   EXPECT_NEAR(2 * r.stiff_strain / r.reaction_right, 1.0, 0.01);
   EXPECT_NEAR(r.reaction_left / r.reaction_right, -1.0, 1e-6);  // 100 × the tolerance: Σ vs |.|
+  // The sectional force (the pull across a cut) is the same everywhere, the interface included.
+  for (const double f : r.sections) EXPECT_NEAR(f / r.reaction_right, 1.0, 1e-6);
 }
 
 // One constant horizon (the coarse one) for both halves, each bond the owner's E (the paper's
@@ -87,6 +92,12 @@ TEST(Statics, ConstantHorizonBimaterialBarMissesIt) {
                                 std::abs(2 * r.stiff_strain / r.reaction_right - 1.0));
   EXPECT_GT(worst, 0.2);
   EXPECT_GT(std::abs(r.reaction_left / r.reaction_right + 1.0), 0.2);
+  // The force across a cut, Σ V f over the part before it, is the left support's pull at every
+  // cut (each free particle is in equilibrium); the right support pulls 1/0.54 as hard: the
+  // pairs across the material interface put an unbalanced (ghost) force on the bar.
+  std::printf("constant horizon: force across x = 0.25, 0.5, 0.75: %.6e %.6e %.6e\n", r.sections[0],
+              r.sections[1], r.sections[2]);
+  for (const double f : r.sections) EXPECT_NEAR(f / -r.reaction_left, 1.0, 1e-6);
 }
 
 /// A 0.1 × 0.1 m steel plate (plane stress), its left three columns clamped, σ = 200 MPa on its

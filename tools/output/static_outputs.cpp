@@ -27,6 +27,9 @@ std::vector<std::string> static_columns(const scene::Scene& s) {
   for (std::size_t k = 0; k < s.boundary_conditions.size(); ++k)
     if (reported(s, s.boundary_conditions[k].bc))
       for (int a = 0; a < s.dimension; ++a) columns.push_back(fmt::format("bc{}_R{}", k, axes[a]));
+  for (const auto& section : s.output.sections)
+    for (int a = 0; a < s.dimension; ++a)
+      columns.push_back(fmt::format("{}_F{}", section.name, axes[a]));
   return columns;
 }
 
@@ -43,6 +46,10 @@ std::vector<double> static_values(const scene::Scene& s, const Simulation& sim) 
     const auto force = c.bc.layer_axis >= 0
                            ? sim.layer_reaction(layer++)
                            : reaction_force(sim.loads(), sim.particles(), c.bc.region);
+    for (int a = 0; a < s.dimension; ++a) values.push_back(force[a]);
+  }
+  for (const auto& section : s.output.sections) {
+    const auto force = sim.force_across(section.axis, section.at);
     for (int a = 0; a < s.dimension; ++a) values.push_back(force[a]);
   }
   return values;

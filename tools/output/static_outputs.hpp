@@ -14,7 +14,8 @@ namespace dhpd::io {
 
 /// history.csv's extra columns: in a static run load_factor, iterations, relaxations, residual;
 /// then bcK_Rx, bcK_Ry[, bcK_Rz] (the force on the body) for each fictitious layer K and, in a
-/// static run, each fixed or displacement region K (0-based, in the scene's order).
+/// static run, each fixed or displacement region K (0-based, in the scene's order); then
+/// NAME_Fx, ... for each `output.sections` plane (Simulation::force_across).
 std::vector<std::string> static_columns(const scene::Scene& s);
 /// Their values for the current state.
 std::vector<double> static_values(const scene::Scene& s, const Simulation& sim);

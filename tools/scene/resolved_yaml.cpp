@@ -276,6 +276,15 @@ void emit_output(YAML::Emitter& out, const OutputSpec& output, int dim) {
     }
     out << YAML::EndSeq;
   }
+  if (!output.sections.empty()) {
+    const auto axes = detail::axis_names(dim);
+    out << YAML::Key << "sections" << YAML::Value << YAML::BeginSeq;
+    for (const auto& section : output.sections)
+      out << YAML::Flow << YAML::BeginMap << YAML::Key << "name" << YAML::Value << section.name
+          << YAML::Key << "axis" << YAML::Value << axes[section.axis] << YAML::Key << "at"
+          << YAML::Value << number_text(section.at) << YAML::EndMap;
+    out << YAML::EndSeq;
+  }
   out << YAML::EndMap;
 }
 

@@ -109,6 +109,13 @@ struct ProbeSpec {
   Location where;  ///< of its `at` (checked against the body once it is built)
 };
 
+/// A plane whose sectional force history.csv follows (`output.sections`).
+struct SectionSpec {
+  std::string name;
+  int axis = 0;     ///< the plane's normal
+  double at = 0.0;  ///< X_axis of the plane
+};
+
 struct OutputSpec {
   std::string directory = "out";
   std::optional<std::int64_t> every;   ///< write a frame every N steps, or
@@ -123,7 +130,8 @@ struct OutputSpec {
   double checkpoint_minutes = 10.0;
   /// How frames are compressed: "lz4" (default), "zlib" or "none" (docs/outputs.md).
   std::string compression = "lz4";
-  std::vector<ProbeSpec> probes;  ///< columns NAME_ux ... NAME_vz of history.csv
+  std::vector<ProbeSpec> probes;      ///< columns NAME_ux ... NAME_vz of history.csv
+  std::vector<SectionSpec> sections;  ///< columns NAME_Fx ... of history.csv
 };
 
 /// `effects.refinement` (docs/scenes.md): absent or `false` means no refiner at all.

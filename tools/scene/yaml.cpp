@@ -261,9 +261,28 @@ std::vector<ProbeSpec> read_probes(const Cursor& c, int dim) {
   return probes;
 }
 
+/// `output.sections`: named planes {name, axis, at} whose sectional force history.csv follows.
+std::vector<SectionSpec> read_sections(const Cursor& c, int dim) {
+  std::vector<SectionSpec> sections;
+  for (const auto& item : c.list()) {
+    const MapView map(item, {"name", "axis", "at"});
+    const Cursor name = map.require("name");
+    SectionSpec section;
+    section.name = detail::csv_name(name, "section");
+    for (const auto& other : sections)
+      if (other.name == section.name)
+        name.fail(fmt::format("duplicate section name '{}'", section.name));
+    section.axis = static_cast<int>(map.require("axis").choice(detail::axis_names(dim)));
+    section.at = map.require("at").number();
+    sections.push_back(std::move(section));
+  }
+  return sections;
+}
+
 OutputSpec read_output(const Cursor& c, int dim) {
-  const MapView map(c, {"directory", "every", "frames", "fields", "history_every",
-                        "checkpoint_every", "checkpoint_minutes", "compression", "probes"});
+  const MapView map(c,
+                    {"directory", "every", "frames", "fields", "history_every", "checkpoint_every",
+                     "checkpoint_minutes", "compression", "probes", "sections"});
   OutputSpec out;
   if (const auto dir = map.get("directory")) {
     out.directory = dir->string();
@@ -290,6 +309,7 @@ OutputSpec read_output(const Cursor& c, int dim) {
     out.compression = kCompressions[compression->choice(kCompressions, "compression")];
   }
   if (const auto probes = map.get("probes")) out.probes = read_probes(*probes, dim);
+  if (const auto sections = map.get("sections")) out.sections = read_sections(*sections, dim);
   return out;
 }
 
