@@ -317,15 +317,26 @@ class Simulation {
   HeldState held_state(std::size_t first) const;
   /// Σ ½ m v² of the prescribed velocities of the held components.
   double held_kinetic_energy() const;
+  struct WorkBaseline {
+    std::vector<double> loaded;  ///< displacements of the body forces' entries
+    HeldState held;
+  };
   /// ½ (R_before + R_now) · (u_now − u_before) over the held components of `before`.
   double held_work(const HeldState& before) const;
   /// One static load step (simulation_static.cpp): the extras run first; returns the body
   /// forces' work.
   double static_step(const StepExtras& extras);
-  /// Relaxes the current load to the solver's tolerance (one round); returns the iterations.
-  std::int64_t relax(RelaxationState& state);
+  /// Relaxes the current load to `tolerance` of it (one round); returns the iterations.
+  std::int64_t relax(RelaxationState& state, double tolerance);
   /// τ_i² of adaptive dynamic relaxation for the current rows (Lanczos on D⁻¹K).
   std::vector<double> relaxation_steps() const;
+  /// τ² and the held axes of the current rows and loads.
+  void prepare_relaxation(RelaxationState& state) const;
+  /// Where the loaded and held components are, to integrate the work done on them since.
+  struct WorkBaseline;
+  WorkBaseline work_baseline() const;
+  /// The body forces' work (at load factor `factor`) and the held components' since `w`.
+  double work_since(const WorkBaseline& w, double factor) const;
   /// Σ over the body forces and held components of |V F|², at the current load factor.
   double load_norm2(const ResidualNorms& norms) const;
   /// One velocity-Verlet step of every particle; returns the body forces' work.

@@ -73,18 +73,20 @@ EditOutcome Simulation::commit_edit(const DiscretisationChange& change,
   particle_time_steps(bonds_, p_, particle_dt_, &dirty);
   critical_dt_ = estimate_critical_dt();
   // A fixed step stays while it is stable; otherwise the scene's safety applies to the new step.
+  // (A static run's dt is its load increment.)
   const bool keep_fixed = setup_.fixed_dt && *setup_.fixed_dt <= critical_dt_;
-  dt_ = keep_fixed ? *setup_.fixed_dt : setup_.safety * critical_dt_;
+  if (!setup_.statics) dt_ = keep_fixed ? *setup_.fixed_dt : setup_.safety * critical_dt_;
   levels_.reset();  // one global step at the finest particles' dt until relevel()
   inherit_loads(loads_, change.successor, change.predecessor);
   enforce_prescribed_velocity();
   internal_force_density(bonds_, p_, &dirty, nullptr, &kernel_points_);
   touched_.resize(p_.size(), 0);
   for (const auto i : dirty) touched_[static_cast<std::size_t>(i)] = 1;
+  const double lambda = load_factor();  // 1 in dynamics
   for (std::size_t k = 0; k < loads_.loaded.size(); ++k)
     if (touched_[static_cast<std::size_t>(loads_.loaded[k])])
       for (int a = 0; a < p_.dim(); ++a)
-        p_.force_density[a][loads_.loaded[k]] += loads_.body_force[k][a];
+        p_.force_density[a][loads_.loaded[k]] += lambda * loads_.body_force[k][a];
   for (const auto i : dirty) touched_[static_cast<std::size_t>(i)] = 0;
   last_power_ = boundary_power();
   if (setup_.effects.fracture)

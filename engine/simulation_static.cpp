@@ -49,7 +49,7 @@ double Simulation::load_norm2(const ResidualNorms& norms) const {
   return sum;
 }
 
-std::int64_t Simulation::relax(RelaxationState& state) {
+std::int64_t Simulation::relax(RelaxationState& state, double tolerance) {
   const auto& solver = *setup_.statics;
   auto& report = relaxation_report_;
   double first = 0.0;  // the first residual, the reference when nothing is loaded
@@ -72,13 +72,13 @@ std::int64_t Simulation::relax(RelaxationState& state) {
   apply_layers();
   compute_forces();
   std::int64_t it = 0;
-  if (measure(0, true) <= solver.tolerance) return 0;
+  if (measure(0, true) <= tolerance) return 0;
   relaxation_start(p_, state);
   for (it = 1; it <= solver.max_iterations; ++it) {
     apply_layers();
     compute_forces();
     const bool sample = solver.trace_every > 0 && it % solver.trace_every == 0;
-    if (measure(it, sample) <= solver.tolerance) break;
+    if (measure(it, sample) <= tolerance) break;
     relaxation_iteration(p_, state);
   }
   if (it > solver.max_iterations)
@@ -87,10 +87,40 @@ std::int64_t Simulation::relax(RelaxationState& state) {
         "iterations the residual force is {:.3g} of the load, the tolerance {:.3g} (raise "
         "solver.max_iterations, or check that every part of the body is held: a free rigid-body "
         "motion never settles)",
-        steps_ + 1, load_factor(), solver.max_iterations, report.residual, solver.tolerance));
+        steps_ + 1, load_factor(), solver.max_iterations, report.residual, tolerance));
   if (solver.trace_every == 0 || it % solver.trace_every != 0)
     report.trace.push_back({report.iterations + it, report.residual, state.damping});
   return it;
+}
+
+Simulation::WorkBaseline Simulation::work_baseline() const {
+  WorkBaseline w;
+  const int dim = p_.dim();
+  w.loaded.resize(static_cast<std::size_t>(dim) * loads_.loaded.size());
+  for (std::size_t k = 0; k < loads_.loaded.size(); ++k)
+    for (int a = 0; a < dim; ++a)
+      w.loaded[dim * k + a] = p_.displacement[a][static_cast<std::size_t>(loads_.loaded[k])];
+  w.held = held_state(0);
+  return w;
+}
+
+double Simulation::work_since(const WorkBaseline& w, double factor) const {
+  // The body forces' work at `factor` (the load step's mean load factor for the segment that
+  // changes the load: trapezoidal, exact for a linear response), and the held components'.
+  const int dim = p_.dim();
+  double work = 0.0;
+  for (std::size_t k = 0; k < loads_.loaded.size(); ++k) {
+    const auto i = static_cast<std::size_t>(loads_.loaded[k]);
+    for (int a = 0; a < dim; ++a)
+      work += factor * loads_.body_force[k][a] * (p_.displacement[a][i] - w.loaded[dim * k + a]) *
+              p_.volume[i];
+  }
+  return work + held_work(w.held);
+}
+
+void Simulation::prepare_relaxation(RelaxationState& state) const {
+  state.tau2 = relaxation_steps();
+  state.held = prescribed_axes(loads_, p_.size());
 }
 
 double Simulation::static_step(const StepExtras& extras) {
@@ -103,47 +133,42 @@ double Simulation::static_step(const StepExtras& extras) {
     ~Done() { flag = false; }
   } done{solving_load_step_};
   relaxation_report_ = {};
-  const int dim = p_.dim();
-  std::vector<double> start(static_cast<std::size_t>(dim) * loads_.loaded.size());
-  for (std::size_t k = 0; k < loads_.loaded.size(); ++k)
-    for (int a = 0; a < dim; ++a)
-      start[dim * k + a] = p_.displacement[a][static_cast<std::size_t>(loads_.loaded[k])];
-  const auto held_before = held_state(0);  // the last equilibrium's reactions and displacements
-  apply_prescribed_displacement(loads_, setup_.boundary_conditions, load_factor(), load_factor(),
-                                p_);
+  const auto baseline = work_baseline();  // the last equilibrium
+  const double lambda = load_factor();
+  apply_prescribed_displacement(loads_, setup_.boundary_conditions, lambda, lambda, p_);
   RelaxationState state;
-  state.tau2 = relaxation_steps();
-  state.held = prescribed_axes(loads_, p_.size());
+  prepare_relaxation(state);
   auto& report = relaxation_report_;
   const auto& solver = *setup_.statics;
+  // With fracture, the rounds that only find the next bonds to break relax to the looser
+  // round_tolerance; the state a round leaves unbroken is relaxed to the tolerance and tested
+  // again.
+  const double loose = std::max(solver.tolerance, solver.round_tolerance);
+  double tolerance = setup_.effects.fracture ? loose : solver.tolerance;
   for (report.rounds = 1;; ++report.rounds) {
-    report.iterations += relax(state);
+    report.iterations += relax(state, tolerance);
     if (!setup_.effects.fracture) break;
     const auto before = broken_;
     broken_ += break_bonds(bonds_, p_, bond_constants());
     report.broken += broken_ - before;
-    if (broken_ == before) break;
+    if (broken_ == before) {
+      if (tolerance == solver.tolerance) break;
+      tolerance = solver.tolerance;
+      continue;
+    }
+    tolerance = loose;
     if (report.rounds == solver.max_break_rounds)
       throw InstabilityError(fmt::format(
           "bonds still broke after {} relaxations in load step {} (load factor {:.6g}; {} bonds "
           "broke in it): the crack grows unstably at this load (take more load steps, or raise "
           "solver.max_break_rounds)",
-          report.rounds, steps_ + 1, load_factor(), report.broken));
+          report.rounds, steps_ + 1, lambda, report.broken));
   }
-  for (int a = 0; a < dim; ++a) std::fill(p_.velocity[a].begin(), p_.velocity[a].end(), 0.0);
+  for (int a = 0; a < p_.dim(); ++a) std::fill(p_.velocity[a].begin(), p_.velocity[a].end(), 0.0);
   apply_layers();
   compute_forces();
-  // The body forces' and the held components' work over the load step, trapezoidal in the load
-  // factor (exact for a linear response).
-  const double lambda = load_factor(), previous = lambda - 1.0 / setup_.load_steps;
-  double work = 0.0;
-  for (std::size_t k = 0; k < loads_.loaded.size(); ++k) {
-    const auto i = static_cast<std::size_t>(loads_.loaded[k]);
-    for (int a = 0; a < dim; ++a)
-      work += 0.5 * (lambda + previous) * loads_.body_force[k][a] *
-              (p_.displacement[a][i] - start[dim * k + a]) * p_.volume[i];
-  }
-  return work + held_work(held_before);
+  // The load changed from λ − 1/N to λ over the step: its body forces' work is trapezoidal.
+  return work_since(baseline, lambda - 0.5 / static_cast<double>(setup_.load_steps));
 }
 
 }  // namespace dhpd

@@ -17,8 +17,12 @@ struct StaticSolver {
   double tolerance = 1e-6;               ///< |R| / |load| at which a load step has converged
   std::int64_t max_iterations = 200000;  ///< per relaxation; more is an error (NotConverged)
   /// Per load step: relax, break the bonds beyond their critical stretch, relax again, until
-  /// no bond breaks or this many rounds (fracture only).
-  int max_break_rounds = 200;
+  /// no bond breaks (each round breaks one at least, so this ends) or this many rounds (fracture
+  /// only): a crack that runs through a body under a fixed load takes a round per spacing or so.
+  int max_break_rounds = 100000;
+  /// With fracture: the tolerance of the relaxations between bond breaks (the last one, which
+  /// breaks none, is relaxed to `tolerance` and tested again).
+  double round_tolerance = 1e-3;
   double safety = 0.9;  ///< fraction of the relaxation's stable pseudo-step (Lanczos on D⁻¹K)
   std::int64_t trace_every = 100;  ///< iterations between samples of the convergence trace
 };

@@ -108,10 +108,18 @@ void log_start(RunLog& log, const scene::Scene& s, const Simulation& sim, std::i
                const fs::path& dir) {
   log.line(fmt::format("dhpd: scene '{}' ({}), {}D, model {}, partial volume {}", s.name, s.file,
                        s.dimension, to_string(s.model), to_string(s.partial_volume)));
-  log.line(fmt::format(
-      "dhpd: {} particles, {} bonds in {} row entries; dt = {:.4g} s (stable {:.4g} s), {} steps{}",
-      sim.particles().size(), sim.bonds().bond_count(), sim.bonds().live, sim.dt(),
-      sim.critical_dt(), steps, s.refinement ? " at the start (refinement shortens dt)" : ""));
+  if (s.statics)
+    log.line(fmt::format(
+        "dhpd: {} particles, {} bonds in {} row entries; static: {} load step{} by adaptive "
+        "dynamic relaxation to {:g} of the load",
+        sim.particles().size(), sim.bonds().bond_count(), sim.bonds().live, steps,
+        steps == 1 ? "" : "s", s.statics->tolerance));
+  else
+    log.line(fmt::format(
+        "dhpd: {} particles, {} bonds in {} row entries; dt = {:.4g} s (stable {:.4g} s), {} "
+        "steps{}",
+        sim.particles().size(), sim.bonds().bond_count(), sim.bonds().live, sim.dt(),
+        sim.critical_dt(), steps, s.refinement ? " at the start (refinement shortens dt)" : ""));
   if (const auto* levels = sim.time_levels())  // dt is dt0: say what the finest particles take
     log.line(
         fmt::format("dhpd: {} time levels (docs/theory.md §19): particles {}; steps dt0 = "

@@ -149,7 +149,10 @@ struct RunContext {
       history.write(history_row(scene, sim, e, probes));
     }
     if (frame) write_frame();
-    if (good.step < 0 || sim.steps_done() - good.step >= LastGood::kLastGoodEvery) keep_good();
+    // A static run's load steps are few and dear: each is kept.
+    if (good.step < 0 || sim.is_static() ||
+        sim.steps_done() - good.step >= LastGood::kLastGoodEvery)
+      keep_good();
   }
   /// The run loop's state now (what a checkpoint of the current state saves). Without `frames`
   /// its list of frames stays empty and nothing waits for a frame in flight.
@@ -184,7 +187,12 @@ struct RunContext {
   std::string write_last_good() {
     const std::string lost = frames.drain_quietly();
     if (good.step < 0) return lost.empty() ? "" : "; " + lost;
-    good.simulation.restore(sim);
+    try {
+      good.simulation.restore(sim);
+    } catch (const std::exception& e) {  // the stop's own message is what matters: keep it
+      return fmt::format("; the last good state could not be restored ({}){}", e.what(),
+                         lost.empty() ? "" : "; " + lost);
+    }
     if (cracks && good.cracks) cracks->tracker = *good.cracks;
     const auto& written = frames.entries();
     // The good state's frames: those on disk up to its time (later ones are of later steps).

@@ -94,6 +94,17 @@ FictitiousLayerSpec fictitious_layer(const Scene& s, std::size_t k, const geomet
                                      geometry::PointSet& all) {
   const auto& bc = s.boundary_conditions[k];
   const int axis = bc.bc.layer_axis, side = bc.bc.layer_side;
+  const Location layer_at{bc.where.file, bc.where.line, bc.where.path + ".fictitious_layer"};
+  if (s.refinement)
+    fail(layer_at,
+         "refinement with fictitious layers is not available yet (an event renumbers "
+         "the particles a layer mirrors)",
+         "region conditions with effects.refinement, or no refinement");
+  if (s.time.multirate.value_or(false))
+    fail(layer_at,
+         "time levels with fictitious layers are not available (a layer follows the "
+         "body once per step)",
+         "time.multirate: false or unset");
   const double face = geometry::face_coordinate(pts, axis, side);
   double spacing = 0.0, largest = 0.0;
   for (std::size_t i = 0; i < pts.size(); ++i) {

@@ -22,11 +22,17 @@ StaticSolver read_static_settings(const MapView& map) {
       tol->fail(fmt::format("tolerance is a fraction of the load, got {}", tol->text()),
                 "0 < tolerance < 1 (default 1e-6)");
   }
+  if (const auto tol = map.get("round_tolerance")) {
+    solver.round_tolerance = positive_number(*tol);
+    if (solver.round_tolerance >= 1.0)
+      tol->fail(fmt::format("round_tolerance is a fraction of the load, got {}", tol->text()),
+                "0 < round_tolerance < 1 (default 1e-3)");
+  }
   if (const auto n = map.get("max_iterations")) solver.max_iterations = positive_integer(*n);
   if (const auto safety = map.get("safety")) solver.safety = safety_factor(*safety);
   if (const auto rounds = map.get("max_break_rounds")) {
     const auto n = positive_integer(*rounds);
-    if (n > 1000000) rounds->fail(fmt::format("{} rounds", n), "1 to 1000000 (default 200)");
+    if (n > 1000000) rounds->fail(fmt::format("{} rounds", n), "1 to 1000000 (default 100000)");
     solver.max_break_rounds = static_cast<int>(n);
   }
   if (const auto every = map.get("trace_every")) {
@@ -91,16 +97,16 @@ void check_static_solver(const MapView& top, const Scene& s) {
              "leave dt out (or solver: dynamic)");
   if (const auto multirate = time.get("multirate"); multirate && *s.time.multirate)
     multirate->fail("time levels are a dynamic scheme", "false (or solver: dynamic)");
-  if (s.refinement)
-    MapView(top.require("effects"), {})
-        .require("refinement")
-        .fail("refinement is not available with the static solver yet",
-              "false (or solver: dynamic)");
   if (s.model == ForceModel::ClassicalVariable)
     fail(s.solver_where,
          "the classical variable-horizon model's ghost forces make its stiffness unsymmetric: "
          "the static solver's step estimate needs a symmetric one",
          "dual-horizon or constant-horizon models (or solver: dynamic)");
+  if (s.refinement)
+    MapView(top.require("effects"), {})
+        .require("refinement")
+        .fail("refinement is not available with the static solver yet",
+              "false (or solver: dynamic)");
   refuse_velocity_conditions(top, s);
 }
 
