@@ -326,8 +326,9 @@ class Simulation {
   /// One static load step (simulation_static.cpp): the extras run first; returns the body
   /// forces' work.
   double static_step(const StepExtras& extras);
-  /// Relaxes the current load to `tolerance` of it (one round); returns the iterations.
-  std::int64_t relax(RelaxationState& state, double tolerance);
+  /// Relaxes the current load to `tolerance` of it, or of `floor` when that is larger (one
+  /// round); returns the iterations.
+  std::int64_t relax(RelaxationState& state, double tolerance, double floor);
   /// τ_i² of adaptive dynamic relaxation for the current rows (Lanczos on D⁻¹K).
   std::vector<double> relaxation_steps() const;
   /// τ² and the held axes of the current rows and loads.
@@ -421,7 +422,10 @@ class Simulation {
   FusedEnergy fused_energy_;
   std::int64_t steps_ = 0, broken_ = 0, bond_updates_ = 0;
   std::int64_t generation_ = 0;
-  bool solving_load_step_ = false;      ///< inside static_step (load_factor of the next step)
+  bool solving_load_step_ = false;  ///< inside static_step (load_factor of the next step)
+  /// The largest load (|body forces and reactions|, N) a static equilibrium has carried: the
+  /// relaxation's reference never falls below it (a parted body carries almost nothing).
+  double load_scale_ = 0.0;
   RelaxationReport relaxation_report_;  ///< not archived: the last load step's
   std::vector<ResolvedLayer> layers_;   ///< derived from the setup and the ids
   std::size_t first_layer_entry_ = 0;   ///< loads_.prescribed entries of layers start here

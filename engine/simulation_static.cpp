@@ -49,16 +49,18 @@ double Simulation::load_norm2(const ResidualNorms& norms) const {
   return sum;
 }
 
-std::int64_t Simulation::relax(RelaxationState& state, double tolerance) {
+std::int64_t Simulation::relax(RelaxationState& state, double tolerance, double floor) {
   const auto& solver = *setup_.statics;
   auto& report = relaxation_report_;
   double first = 0.0;  // the first residual, the reference when nothing is loaded
   const auto measure = [&](std::int64_t iteration, bool sample) {
     // The load now: body forces and the reactions of the held components as they are (at the
-    // start of a load step these are far from their final values).
+    // start of a load step these are far from their final values), but not below the largest
+    // an equilibrium carried (`floor`: a body a crack has parted carries almost nothing, and its
+    // residual cannot fall below round-off of the forces it carried).
     const auto norms = residual_norms(p_, state);
     if (iteration == 0) first = std::sqrt(norms.residual2);
-    const double load = std::sqrt(load_norm2(norms));
+    const double load = std::max(std::sqrt(load_norm2(norms)), floor);
     const double reference = load > 0.0 ? load : first;
     const double ratio = reference > 0.0 ? std::sqrt(norms.residual2) / reference : 0.0;
     if (!std::isfinite(ratio))
@@ -135,8 +137,10 @@ double Simulation::static_step(const StepExtras& extras) {
   relaxation_report_ = {};
   const auto baseline = work_baseline();  // the last equilibrium
   const double lambda = load_factor();
-  apply_prescribed_displacement(loads_, setup_.boundary_conditions, lambda, lambda, p_);
   RelaxationState state;
+  state.held = prescribed_axes(loads_, p_.size());
+  const double floor = load_scale_;
+  apply_prescribed_displacement(loads_, setup_.boundary_conditions, lambda, lambda, p_);
   prepare_relaxation(state);
   auto& report = relaxation_report_;
   const auto& solver = *setup_.statics;
@@ -146,7 +150,7 @@ double Simulation::static_step(const StepExtras& extras) {
   const double loose = std::max(solver.tolerance, solver.round_tolerance);
   double tolerance = setup_.effects.fracture ? loose : solver.tolerance;
   for (report.rounds = 1;; ++report.rounds) {
-    report.iterations += relax(state, tolerance);
+    report.iterations += relax(state, tolerance, floor);
     if (!setup_.effects.fracture) break;
     const auto before = broken_;
     broken_ += break_bonds(bonds_, p_, bond_constants());
@@ -157,6 +161,10 @@ double Simulation::static_step(const StepExtras& extras) {
       continue;
     }
     tolerance = loose;
+    // The broken bonds made their particles softer: each takes its new stable pseudo-step, so a
+    // particle left hanging by a few bonds is not overdamped into a stall.
+    particle_time_steps(bonds_, p_, particle_dt_);
+    prepare_relaxation(state);
     if (report.rounds == solver.max_break_rounds)
       throw InstabilityError(fmt::format(
           "bonds still broke after {} relaxations in load step {} (load factor {:.6g}; {} bonds "
@@ -167,6 +175,7 @@ double Simulation::static_step(const StepExtras& extras) {
   for (int a = 0; a < p_.dim(); ++a) std::fill(p_.velocity[a].begin(), p_.velocity[a].end(), 0.0);
   apply_layers();
   compute_forces();
+  load_scale_ = std::max(load_scale_, std::sqrt(load_norm2(residual_norms(p_, state))));
   // The load changed from λ − 1/N to λ over the step: its body forces' work is trapezoidal.
   return work_since(baseline, lambda - 0.5 / static_cast<double>(setup_.load_steps));
 }

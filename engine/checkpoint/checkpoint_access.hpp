@@ -34,7 +34,7 @@ struct CheckpointAccess {
   template <class Sim, class Ar>
   static void clocks(Sim& s, Ar& ar) {
     ar(s.time_), ar(s.dt_), ar(s.critical_dt_);
-    ar(s.external_work_), ar(s.last_power_);
+    ar(s.external_work_), ar(s.last_power_), ar(s.load_scale_);
     ar(s.budget_.tolerance), ar(s.budget_.initial), ar(s.budget_.mapping), ar(s.budget_.scale);
     ar(s.conservative_), ar(s.blowup_factor_);
     ar(s.steps_), ar(s.broken_), ar(s.bond_updates_), ar(s.generation_), ar(s.next_id_);

@@ -425,6 +425,46 @@ TEST(TimeFunctions, SceneRefusesBadTables) {
   refused("velocity: {x: {table: []}}", "the table has no row");
 }
 
+// Quasi-static crack growth: a 20 mm glass plate with a 5 mm edge notch, pulled in ten load
+// steps, is elastic (the reaction linear in the load) until its notch tip breaks, then the crack
+// runs along the notch's line and the plate parts (the reaction falls to round-off of the load
+// it carried, which the relaxation's reference keeps: docs/theory.md §22).
+TEST(Statics, NotchedPlateCracksAlongItsNotchAndParts) {
+  const std::string text =
+      "name: notched\ndimension: 2\nplane: stress\nthickness: 0.001\nmaterials:\n"
+      "  glass: {E: 72.0e9, rho: 2440, G0: 3.8}\nbody:\n"
+      "  - {shape: box, min: [0, 0], max: [0.02, 0.02], spacing: 0.0005, material: glass}\n"
+      "cracks:\n  - [[0.0, 0.01], [0.005, 0.01]]\npartial_volume: linear\n"
+      "boundary_conditions:\n"
+      "  - {region: {shape: box, min: [0, 0], max: [0.02, 0.0015]}, fixed: true}\n"
+      "  - {region: {shape: box, min: [0, 0.0185], max: [0.02, 0.02]}, displacement: {y: 3.0e-6}}\n"
+      "no_fail:\n  - {shape: box, min: [0, 0], max: [0.02, 0.003]}\n"
+      "  - {shape: box, min: [0, 0.017], max: [0.02, 0.02]}\n"
+      "effects: {fracture: true}\nsolver: {type: static, tolerance: 1.0e-5}\ntime: {steps: 10}\n";
+  const auto scene = scene::parse_scene(text, "notched.yaml");
+  auto sim = scene::build_simulation(scene);
+  const auto& top = scene.boundary_conditions[1].bc.region;
+  std::vector<double> reaction;
+  std::vector<std::int64_t> broken;
+  for (int k = 0; k < 10; ++k) {
+    sim->step();
+    reaction.push_back(reaction_force(sim->loads(), sim->particles(), top)[1]);
+    broken.push_back(sim->broken_bonds());
+  }
+  for (int k = 0; k < 10; ++k)
+    std::printf("load factor %.1f: reaction %.6g N, %lld bonds broken\n", 0.1 * (k + 1),
+                reaction[k], static_cast<long long>(broken[k]));
+  EXPECT_EQ(broken[4], 0);
+  for (int k = 1; k < 5; ++k) EXPECT_NEAR(reaction[k] / reaction[0], k + 1.0, 1e-4 * (k + 1));
+  EXPECT_GT(broken.back(), 0);
+  const double peak = *std::max_element(reaction.begin(), reaction.end());
+  EXPECT_LT(std::abs(reaction.back()), 1e-3 * peak);
+  // Every particle that lost a fifth of its bonds lies within a horizon of the notch's line.
+  const auto& p = sim->particles();
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (p.damage[i] > 0.2) EXPECT_NEAR(p.reference_position[1][i], 0.01, 0.0015) << i;
+}
+
 // Bad input: what a static scene cannot mean is refused at its key.
 TEST(Statics, SceneRefusesWhatAStaticRunCannotMean) {
   const auto refused = [](const std::string& text, const std::string& expected) {
