@@ -156,19 +156,6 @@ class Simulation {
   /// step, the one it solves); 1 in dynamics.
   double load_factor() const;
   /// What the last static load step did.
-  struct RelaxationReport {
-    std::int64_t iterations = 0;  ///< ADR iterations, every round
-    int rounds = 0;               ///< relaxations (1 + those after bonds broke)
-    std::int64_t broken = 0;      ///< bonds broken in the load step
-    double residual = 0.0;        ///< |R| / |load| at the end
-    double damping = 0.0;         ///< c of the last iteration
-    /// (iteration, |R|/|load|, c) every trace_every iterations and at the end of each round.
-    struct Sample {
-      std::int64_t iteration = 0;
-      double residual = 0.0, damping = 0.0;
-    };
-    std::vector<Sample> trace;
-  };
   const RelaxationReport& last_relaxation() const { return relaxation_report_; }
   /// The fictitious boundary layers (docs/theory.md §23), bound to slots.
   const std::vector<ResolvedLayer>& fictitious_layers() const { return layers_; }

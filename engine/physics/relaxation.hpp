@@ -27,6 +27,21 @@ struct StaticSolver {
   std::int64_t trace_every = 100;  ///< iterations between samples of the convergence trace
 };
 
+/// What a static load step did (Simulation::last_relaxation).
+struct RelaxationReport {
+  std::int64_t iterations = 0;  ///< ADR iterations, every round
+  int rounds = 0;               ///< relaxations (1 + those after bonds broke)
+  std::int64_t broken = 0;      ///< bonds broken in the load step
+  double residual = 0.0;        ///< |R| / |load| at the end
+  double damping = 0.0;         ///< c of the last iteration
+  /// (iteration, |R|/|load|, c) every trace_every iterations and at the end of each round.
+  struct Sample {
+    std::int64_t iteration = 0;
+    double residual = 0.0, damping = 0.0;
+  };
+  std::vector<Sample> trace;
+};
+
 /// Per particle, the pseudo-time step τ_i with which the unit pseudo-step of ADR runs (its
 /// fictitious density is D_i = ρ_i / τ_i²); `free` marks, per particle and axis (bit a), the
 /// components that move.

@@ -1,6 +1,7 @@
 // Statics by adaptive dynamic relaxation (docs/theory.md §22): the CMAME 2017 §5.1 bi-material bar
 // against its piecewise-linear solution, a plate in tension against a long damped dynamic run of
-// the same scene and against σL/E, load steps, the energy ledger, and what a static scene refuses.
+// the same scene and against σL/E, load steps, the energy ledger, fracture between relaxations (a
+// bar, a notched plate), and what a static scene refuses.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -11,11 +12,14 @@
 
 #include "engine/base/errors.hpp"
 #include "engine/physics/loads.hpp"
+#include "tests/support/statics.hpp"
 #include "tools/scene/build.hpp"
 #include "tools/scene/scene.hpp"
 
 namespace dhpd {
 namespace {
+
+using test::tension_plate;
 
 /// CMAME 2017 §5.1: a 1 m bar, E1 = 1 (Δx = 0.01) on the left half, E2 = 2 (Δx = 0.005) on the
 /// right, three points held at each end, the right ones moved by Δs = 1e-4. Linear partial volumes
@@ -98,22 +102,6 @@ TEST(Statics, ConstantHorizonBimaterialBarMissesIt) {
   std::printf("constant horizon: force across x = 0.25, 0.5, 0.75: %.6e %.6e %.6e\n", r.sections[0],
               r.sections[1], r.sections[2]);
   for (const double f : r.sections) EXPECT_NEAR(f / -r.reaction_left, 1.0, 1e-6);
-}
-
-/// A 0.1 × 0.1 m steel plate (plane stress), its left three columns clamped, σ = 200 MPa on its
-/// right column as a body force; `model` and `materials` as given.
-std::string tension_plate(const std::string& solver, const std::string& model, double nu) {
-  return "name: plate\ndimension: 2\nplane: stress\nthickness: 0.01\nmaterials:\n"
-         "  steel: {E: 200.0e9, rho: 7850, nu: " +
-         std::to_string(nu) +
-         "}\nbody:\n  - {shape: box, min: [0, 0], max: [0.1, 0.1], spacing: 0.005, material: "
-         "steel}\npartial_volume: linear\nmodel: " +
-         model +
-         "\nboundary_conditions:\n"
-         "  - region: {shape: box, min: [0, 0], max: [0.015, 0.1]}\n    fixed: true\n"
-         "  - region: {shape: box, min: [0.095, 0], max: [0.1, 0.1]}\n"
-         "    traction: [200.0e6, 0]\n    normal: x\n" +
-         solver;
 }
 
 struct PlateCase {
@@ -245,186 +233,6 @@ TEST(Statics, BondsBreakBetweenRelaxationsUntilTheBarParts) {
   EXPECT_EQ(reaction, 0.0);
 }
 
-/// A 1 m bar of E = 1 held by fictitious layers: clamped (mirror rule) on the left, moved by Δs
-/// (mirror rule, u_f = 2Δs − u) on the right.
-std::string layered_bar(const std::string& solver) {
-  return "name: bar\ndimension: 1\narea: 1.0\nmaterials:\n  m: {E: 1.0, rho: 1.0}\nbody:\n"
-         "  - {shape: box, min: [0.0], max: [1.0], spacing: 0.01, material: m}\n"
-         "partial_volume: linear\nboundary_conditions:\n"
-         "  - {fictitious_layer: x_min, fixed: true}\n"
-         "  - {fictitious_layer: x_max, displacement: {x: 1.0e-4}}\n" +
-         solver;
-}
-
-// The mirror rule holds the face itself at U*: the bar's displacement is Δs x/L, exactly (a
-// linear field is its own odd mirror image about each face), and the layers are two horizons of
-// mirrored points, flagged in the frames' field.
-TEST(FictitiousLayers, MirrorRuleGivesTheExactLinearBar) {
-  auto sim = scene::build_simulation(scene::parse_scene(
-      layered_bar("solver: {type: static, tolerance: 1.0e-9}\ntime: {steps: 1}\n"), "b.yaml"));
-  ASSERT_EQ(sim->fictitious_layers().size(), 2u);
-  for (const auto& layer : sim->fictitious_layers()) EXPECT_EQ(layer.particle.size(), 6u);
-  sim->step();
-  const auto& p = sim->particles();
-  double worst = 0.0;
-  for (std::size_t i = 0; i < p.size(); ++i)
-    worst = std::max(worst, std::abs(p.displacement[0][i] - 1e-4 * p.reference_position[0][i]));
-  std::printf("layered bar: largest |u − Δs x/L| = %.2e of Δs\n", worst / 1e-4);
-  EXPECT_LT(worst, 1e-7 * 1e-4);
-  const auto left = sim->layer_reaction(0), right = sim->layer_reaction(1);
-  EXPECT_NEAR(right[0], 1e-4, 1e-8);  // E A ε with E = A = 1
-  EXPECT_NEAR(left[0], -right[0], 1e-12);
-}
-
-// The traction rule: the 0.1 m plate pulled by 200 MPa through a layer on its right face and
-// clamped by one on its left takes σ A from the layer, for the state-based families (bond-based
-// PD's softer free edges take 16 % less: reported, not asserted), and the two layers' reactions
-// balance.
-TEST(FictitiousLayers, TractionRuleTransmitsTheTraction) {
-  struct Case {
-    const char* name;
-    std::string model;
-    double nu, factor, tolerance;
-  };
-  for (const auto& c : {Case{"ordinary", "{family: ordinary-state}", 0.25, 3.015, 0.03},
-                        Case{"correspondence", "{family: correspondence}", 0.25, 2.015, 0.03},
-                        Case{"bond-based", "dual-horizon", 1.0 / 3.0, 3.015, 0.2}}) {
-    auto text = tension_plate("solver: {type: static, tolerance: 1.0e-8}\ntime: {steps: 1}\n",
-                              c.model, c.nu);
-    const auto from = text.find("  - region: {shape: box, min: [0, 0], max: [0.015, 0.1]}");
-    const auto to = text.find("solver:");
-    text.replace(from, to - from,
-                 "  - {fictitious_layer: x_min, fixed: true}\n"
-                 "  - {fictitious_layer: x_max, traction: [200.0e6, 0]}\n");
-    text += "horizon: {factor: " + std::to_string(c.factor) + "}\n";
-    auto sim = scene::build_simulation(scene::parse_scene(text, "plate.yaml"));
-    sim->step();
-    const auto left = sim->layer_reaction(0), right = sim->layer_reaction(1);
-    const double applied = 200e6 * 0.1 * 0.01;
-    std::printf("%s: layer force %.6g N (σA %.6g N, ratio %.4f)\n", c.name, right[0], applied,
-                right[0] / applied);
-    EXPECT_NEAR(right[0] / applied, 1.0, c.tolerance) << c.name;
-    EXPECT_NEAR(left[0] / right[0], -1.0, 1e-6) << c.name;
-  }
-}
-
-// Dynamics: the layers' particles move with the body's, so the body's momentum changes by the
-// layers' reactions alone (trapezoidal in time, as velocity Verlet integrates forces) and their
-// work keeps the energy ledger balanced (the guard lets the run through).
-TEST(FictitiousLayers, MomentumChangesByTheLayersReactionsInDynamics) {
-  auto sim =
-      scene::build_simulation(scene::parse_scene(layered_bar("time: {steps: 1}\n"), "d.yaml"));
-  const auto momentum = [&] {
-    const auto& p = sim->particles();
-    double m = 0.0;
-    for (std::size_t i = 0; i < p.size(); ++i) m += p.density[i] * p.volume[i] * p.velocity[0][i];
-    return m;
-  };
-  const auto reactions = [&] { return sim->layer_reaction(0)[0] + sim->layer_reaction(1)[0]; };
-  const double start = momentum();
-  double impulse = 0.0, last = reactions();
-  for (int k = 0; k < 2000; ++k) {
-    sim->step();
-    const double now = reactions();
-    impulse += 0.5 * sim->dt() * (last + now);
-    last = now;
-  }
-  const auto e = sim->energies();
-  sim->check_stable(e);
-  const double initial = sim->energy_budget().initial;
-  std::printf(
-      "momentum change %.6e, impulse of the layers %.6e; strain + kinetic %.6e J, "
-      "initial + work %.6e J\n",
-      momentum() - start, impulse, e.strain + e.kinetic, initial + e.external_work);
-  EXPECT_NEAR(e.strain + e.kinetic - e.verlet_correction, initial + e.external_work,
-              1e-3 * initial);
-  EXPECT_GT(std::abs(impulse), 1e-6);
-  EXPECT_NEAR(momentum() - start, impulse, 1e-12 * std::abs(impulse) + 1e-15);
-}
-
-/// A 1 m bar of E = ρ = 1, its left three points clamped, its right three held by `right`.
-std::string driven_bar(const std::string& right, const std::string& solver) {
-  return "name: bar\ndimension: 1\narea: 1.0\nmaterials:\n  m: {E: 1.0, rho: 1.0}\nbody:\n"
-         "  - {shape: box, min: [0.0], max: [1.0], spacing: 0.01, material: m}\n"
-         "boundary_conditions:\n"
-         "  - {region: {shape: box, min: [0.0], max: [0.03]}, fixed: true}\n"
-         "  - {region: {shape: box, min: [0.97], max: [1.0]}, " +
-         right + "}\n" + solver;
-}
-
-// Dynamics: a displacement ramped over time is where the function says at the end of every step
-// (each step's velocity lands on it), and a tabulated velocity holds the particles at its value
-// at the middle of each step.
-TEST(TimeFunctions, HeldComponentsFollowTheirFunctionsInDynamics) {
-  const auto scene = scene::parse_scene(
-      driven_bar("displacement: {x: {ramp: 1.0, to: 1.0e-4}}", "time: {steps: 1}\n"), "r.yaml");
-  auto sim = scene::build_simulation(scene);
-  const auto& f = scene.boundary_conditions[1].bc.in_time[0];
-  const auto held = select(sim->particles(), scene.boundary_conditions[1].bc.region);
-  double worst = 0.0;
-  for (int k = 0; k < 400; ++k) {
-    sim->step();
-    for (const auto i : held)
-      worst = std::max(worst, std::abs(sim->particles().displacement[0][i] - f.at(sim->time())));
-  }
-  std::printf("ramped displacement: largest |u − f(t)| = %.2e m over %.3g s\n", worst, sim->time());
-  EXPECT_GT(sim->time(), 1.0);
-  EXPECT_LT(worst, 1e-15);
-  sim->check_stable(sim->energies());  // the supports' work, acceleration included, is counted
-  const auto table = scene::parse_scene(
-      driven_bar("velocity: {x: {table: [[0, 0], [0.5, 1.0e-3], [1.5, -1.0e-3]]}}",
-                 "time: {steps: 1}\n"),
-      "v.yaml");
-  sim = scene::build_simulation(table);
-  const auto& g = table.boundary_conditions[1].bc.in_time[0];
-  worst = 0.0;
-  for (int k = 0; k < 300; ++k) {
-    const double middle = sim->time() + 0.5 * sim->dt();
-    sim->step();
-    for (const auto i : held)
-      worst = std::max(worst, std::abs(sim->particles().velocity[0][i] - g.at(middle)));
-  }
-  EXPECT_LT(worst, 1e-15);
-  sim->check_stable(sim->energies());
-}
-
-// Statics: a tabulated displacement is the function's value at the load factor: out to 1e-4 at
-// λ = 0.5 and back to 0 at λ = 1, where the elastic bar is at rest again.
-TEST(TimeFunctions, StaticLoadStepsTakeTheFunctionAtTheLoadFactor) {
-  auto sim = scene::build_simulation(scene::parse_scene(
-      driven_bar("displacement: {x: {table: [[0, 0], [0.5, 1.0e-4], [1, 0]]}}",
-                 "solver: {type: static, tolerance: 1.0e-9}\ntime: {steps: 2}\n"),
-      "s.yaml"));
-  const auto largest = [&] {
-    double u = 0.0;
-    for (const double v : sim->particles().displacement[0]) u = std::max(u, std::abs(v));
-    return u;
-  };
-  sim->step();
-  EXPECT_DOUBLE_EQ(largest(), 1.0e-4);
-  sim->step();
-  EXPECT_LT(largest(), 1e-12);
-}
-
-// Bad input: tables whose times do not increase, or whose file rows are not numbers.
-TEST(TimeFunctions, SceneRefusesBadTables) {
-  const auto refused = [](const std::string& right, const std::string& expected) {
-    try {
-      scene::parse_scene(driven_bar(right, "time: {steps: 1}\n"), "t.yaml");
-      ADD_FAILURE() << "accepted: " << expected;
-    } catch (const InputError& e) {
-      EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
-    }
-  };
-  refused("displacement: {x: {table: [[0, 0], [0.2, 1.0], [0.1, 2.0]]}}",
-          "t.yaml:10: boundary_conditions.1.displacement.x.table: the times must increase: row 3 "
-          "has t = 0.1 after t = 0.2");
-  refused("displacement: {x: {ramp: 0.0, to: 1.0}}", "displacement.x.ramp");
-  refused("displacement: {x: {ramp: 1.0, to: 1.0, table: [[0, 1]]}}", "not both");
-  refused("displacement: {x: {table: missing_table.csv}}", "cannot open the table file");
-  refused("velocity: {x: {table: []}}", "the table has no row");
-}
-
 // Quasi-static crack growth: a 20 mm glass plate with a 5 mm edge notch, pulled in ten load
 // steps, is elastic (the reaction linear in the load) until its notch tip breaks, then the crack
 // runs along the notch's line and the plate parts (the reaction falls to round-off of the load
@@ -490,47 +298,6 @@ TEST(Statics, SceneRefusesWhatAStaticRunCannotMean) {
   refused(plate("").replace(plate("").find("solver: static"), 14,
                             "solver: {type: static, tolerance: 2.0}"),
           "solver.tolerance: tolerance is a fraction of the load");
-}
-
-// Bad input: a layer on a face the code cannot mirror, with a region, a normal or a velocity.
-TEST(FictitiousLayers, SceneRefusesWhatALayerCannotMean) {
-  const auto refused = [](const std::string& text, const std::string& expected) {
-    try {
-      scene::build_simulation(scene::parse_scene(text, "l.yaml"));
-      ADD_FAILURE() << "accepted: " << expected;
-    } catch (const InputError& e) {
-      EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
-    }
-  };
-  const std::string head = "name: l\ndimension: 2\nmaterials:\n  m: {E: 1.0e9, rho: 1000}\nbody:\n";
-  const std::string square =
-      "  - {shape: box, min: [0, 0], max: [1, 1], spacing: 0.05, material: m}\n";
-  const std::string tail = "time: {steps: 1}\n";
-  refused(head +
-              "  - {shape: disk, center: [0.5, 0.5], radius: 0.5, spacing: 0.05, material: m}\n" +
-              "boundary_conditions:\n  - {fictitious_layer: x_max, fixed: true}\n" + tail,
-          "boundary_conditions.0.fictitious_layer: the body's face at x = 1 is not flat within two "
-          "horizon");
-  refused(head + square +
-              "  - {shape: box, min: [1, 0], max: [1.1, 0.5], spacing: 0.05, material: m}\n" +
-              "boundary_conditions:\n  - {fictitious_layer: x_max, fixed: true}\n" + tail,
-          "not flat within two horizons");
-  refused(head + square +
-              "boundary_conditions:\n  - {fictitious_layer: x_max, velocity: {x: 1.0}}\n" + tail,
-          "boundary_conditions.0.velocity: a fictitious layer holds displacements or tractions");
-  refused(head + square +
-              "boundary_conditions:\n  - {fictitious_layer: x_max, traction: [1.0, 0], normal: "
-              "y}\n" +
-              tail,
-          "boundary_conditions.0.normal: a fictitious layer's normal is its face's axis");
-  refused(
-      head + square + "boundary_conditions:\n  - {fictitious_layer: z_max, fixed: true}\n" + tail,
-      "boundary_conditions.0.fictitious_layer");
-  refused(head + square +
-              "boundary_conditions:\n  - {fictitious_layer: x_max, fixed: true, region: {shape: "
-              "box, min: [0, 0], max: [1, 1]}}\n" +
-              tail,
-          "a fictitious layer lies outside the body's face: it takes no region");
 }
 
 }  // namespace

@@ -17,6 +17,12 @@ geometry::PointSet body_points(const Scene& scene);
 /// no particle and for parts that produce no particle.
 SimulationSetup build_setup(const Scene& scene);
 
+/// The fictitious layer of boundary condition `k` (scene/layers.cpp, docs/theory.md §23): the
+/// points of `body` within two horizons of the face, mirrored and appended to `all`; throws
+/// InputError at the condition's key where the face is not flat within that width.
+FictitiousLayerSpec fictitious_layer(const Scene& s, std::size_t k, const geometry::PointSet& body,
+                                     geometry::PointSet& all);
+
 /// Builds the simulation; a fixed `time.dt` above the stable step is refused with its location.
 std::unique_ptr<Simulation> build_simulation(const Scene& scene);
 
