@@ -31,6 +31,7 @@ import argparse
 import importlib
 import math
 import os
+import re
 import sys
 
 
@@ -137,6 +138,30 @@ def plot_tip_speed(run, png):
     save(fig, png)
 
 
+def force_columns(history):
+    """history.csv's reactions (bcK_Rx, ...) and sectional forces (NAME_Fx, ...) that are not all
+    zero (a static run, fictitious layers or output.sections)."""
+    return [c for c in history if re.fullmatch(r"(bc\d+_R|.+_F)[xyz]", c)
+            and np.any(np.asarray(history[c]) != 0)]
+
+
+def plot_forces(run, png):
+    """The reactions and sectional forces of history.csv: against the load factor in a static run
+    (the load–displacement curve), else against time."""
+    h = run.history
+    static = "load_factor" in h
+    fig, ax = plt.subplots(figsize=(8, 5))
+    x = h["load_factor"] if static else h["time"] * US
+    ax.set_xlabel("load factor" if static else "time (µs)")
+    ax.set_ylabel("force (N)")
+    ax.set_title(f"{run.name}: reactions and sectional forces")
+    ax.grid(alpha=0.3)
+    for column in force_columns(h):
+        ax.plot(x, h[column], ".-", label=column)
+    ax.legend()
+    save(fig, png)
+
+
 HISTORY_PLOTS = (("energies.png", plot_energies), ("momentum.png", plot_momentum),
                  ("particles_dt.png", plot_particles_dt))
 CRACK_PLOTS = (("tip_speed.png", plot_tip_speed), ("crack_path.png", crack_path.plot_crack_path))
@@ -172,6 +197,8 @@ def plot(run, name="damage", times=None):
     plot_sheets(run)
     plots = (HISTORY_PLOTS if run.has_history else ()) + (
         CRACK_PLOTS if run.cracks is not None else ())
+    if run.has_history and force_columns(run.history):
+        plots += (("forces.png", plot_forces),)
     for png, draw in plots:
         draw(run, run.path("plots", png))
         print(f"wrote {run.path('plots', png)}")
@@ -182,6 +209,8 @@ def plot(run, name="damage", times=None):
 def default_pictures(run):
     """The pictures `plot` makes by default for what the run holds (the report wants them)."""
     wanted = [png for png, _ in HISTORY_PLOTS] if run.has_history else []
+    if run.has_history and force_columns(run.history):
+        wanted.append("forces.png")
     if run.cracks is not None:
         wanted += [png for png, _ in CRACK_PLOTS]
     if run.frames and int((run.scene or {}).get("dimension", 2)) >= 2:

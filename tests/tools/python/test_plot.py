@@ -3,7 +3,7 @@
 crack_path.py) on a short adaptive run of the notched test plate: the pictures it writes, the scene
 drawn over the damage frames (pre-crack, notch tip, pulled and held edges, in mm), the level map
 and the contact sheet, lengths in mm and times in µs on every axis, and `--times` outside the
-frames' span."""
+frames' span; and a static run's reactions and sectional force against the load factor."""
 import os
 import re
 import shutil
@@ -330,6 +330,34 @@ class Times(unittest.TestCase):
                               capture_output=True, text=True)
         self.assertEqual(proc.returncode, 2)
         self.assertIn("expected finite times in s", proc.stderr)
+
+
+
+class StaticForces(unittest.TestCase):
+    """A static run's reactions and sectional force against the load factor (forces.png)."""
+
+    def test_reactions_and_sections_are_drawn_against_the_load_factor(self):
+        out = WORK("bar")
+        support.dhpd("run", os.path.join(support.SOURCE, "cases", "bimaterial_bar.yaml"), "-o",
+                     out, "-q", "--set", "time.steps=2")
+        run = load_run(out)
+        self.assertIn("forces.png", plot_run.default_pictures(run))
+        with support.captured_figures() as figures:
+            plot_run.plot_forces(run, WORK("forces.png"))
+            ax = figures[0].axes[0]
+            self.assertEqual(ax.get_xlabel(), "load factor")
+            lines = labelled(ax)
+            self.assertEqual(sorted(lines), ["S_Fx", "bc0_Rx", "bc1_Rx"])
+            np.testing.assert_allclose(lines["S_Fx"].get_xdata(), [0.0, 0.5, 1.0])
+            np.testing.assert_allclose(lines["S_Fx"].get_ydata(), run.history["S_Fx"])
+            # The pull across the interface is the right support's, the left one's opposite.
+            np.testing.assert_allclose(lines["S_Fx"].get_ydata(), lines["bc1_Rx"].get_ydata(),
+                                       rtol=1e-5)
+            np.testing.assert_allclose(lines["bc0_Rx"].get_ydata(), -lines["bc1_Rx"].get_ydata(),
+                                       rtol=1e-5)
+
+    def test_a_dynamic_run_without_reactions_gets_no_forces_picture(self):
+        self.assertNotIn("forces.png", plot_run.default_pictures(load_run(RUN)))
 
 
 if __name__ == "__main__":
