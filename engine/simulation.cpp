@@ -298,39 +298,28 @@ struct ParticleSums {
   double momentum[3] = {0, 0, 0};
   double kinetic = 0.0;
   double correction = 0.0;  ///< (dt²/8) Σ V |f|²/ρ over components without prescribed velocity
+  ParticleSums& operator+=(const ParticleSums& o) {
+    for (int a = 0; a < 3; ++a) momentum[a] += o.momentum[a];
+    kinetic += o.kinetic;
+    correction += o.correction;
+    return *this;
+  }
 };
 
-constexpr std::int64_t kSumBlock = 1024;
-
 ParticleSums particle_sums(const ParticleStore& p, const ResolvedLoads& loads, double dt) {
-  const auto n = static_cast<std::int64_t>(p.size());
   const auto fixed = prescribed_axes(loads, p.size());
-  const std::int64_t blocks = (n + kSumBlock - 1) / kSumBlock;
-  std::vector<ParticleSums> part(static_cast<std::size_t>(blocks));
   const int dim = p.dim();
-#pragma omp parallel for schedule(static) if (n >= kParallelMinParticles)
-  for (std::int64_t b = 0; b < blocks; ++b) {
-    ParticleSums s;
-    for (std::int64_t i = b * kSumBlock; i < std::min(n, (b + 1) * kSumBlock); ++i) {
-      const double m = p.density[i] * p.volume[i];
-      double v2 = 0.0, f2 = 0.0;
-      for (int a = 0; a < 3; ++a) s.momentum[a] += m * p.velocity[a][i];
-      for (int a = 0; a < dim; ++a) {
-        v2 += p.velocity[a][i] * p.velocity[a][i];
-        if (!(fixed[i] >> a & 1u)) f2 += p.force_density[a][i] * p.force_density[a][i];
-      }
-      s.kinetic += 0.5 * m * v2;
-      s.correction += 0.125 * dt * dt * p.volume[i] * f2 / p.density[i];
+  return blocked_sum<ParticleSums>(p.size(), [&](std::size_t i, ParticleSums& s) {
+    const double m = p.density[i] * p.volume[i];
+    double v2 = 0.0, f2 = 0.0;
+    for (int a = 0; a < 3; ++a) s.momentum[a] += m * p.velocity[a][i];
+    for (int a = 0; a < dim; ++a) {
+      v2 += p.velocity[a][i] * p.velocity[a][i];
+      if (!(fixed[i] >> a & 1u)) f2 += p.force_density[a][i] * p.force_density[a][i];
     }
-    part[static_cast<std::size_t>(b)] = s;
-  }
-  ParticleSums total;
-  for (const auto& s : part) {
-    for (int a = 0; a < 3; ++a) total.momentum[a] += s.momentum[a];
-    total.kinetic += s.kinetic;
-    total.correction += s.correction;
-  }
-  return total;
+    s.kinetic += 0.5 * m * v2;
+    s.correction += 0.125 * dt * dt * p.volume[i] * f2 / p.density[i];
+  });
 }
 }  // namespace
 

@@ -325,8 +325,9 @@ class Simulation {
   WorkBaseline work_baseline() const;
   /// The body forces' work (at load factor `factor`) and the held components' since `w`.
   double work_since(const WorkBaseline& w, double factor) const;
-  /// Σ over the body forces and held components of |V F|², at the current load factor.
-  double load_norm2(const ResidualNorms& norms) const;
+  /// Σ |λ V b|² over the body forces at the current load factor (the applied part of the load
+  /// norm; the held components' reactions are ResidualNorms::reaction2).
+  double applied_load2() const;
   /// One velocity-Verlet step of every particle; returns the body forces' work.
   double verlet_step(const StepExtras& extras);
   /// One dt₀ step of the multi-rate scheme (simulation_multirate.cpp); returns the body forces'

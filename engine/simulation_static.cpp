@@ -39,9 +39,9 @@ std::vector<double> Simulation::relaxation_steps() const {
   return tau2;
 }
 
-double Simulation::load_norm2(const ResidualNorms& norms) const {
+double Simulation::applied_load2() const {
   const double lambda = load_factor();
-  double sum = norms.reaction2;
+  double sum = 0.0;
   for (std::size_t k = 0; k < loads_.loaded.size(); ++k) {
     const double v = p_.volume[static_cast<std::size_t>(loads_.loaded[k])];
     for (int a = 0; a < p_.dim(); ++a) sum += std::pow(lambda * v * loads_.body_force[k][a], 2);
@@ -53,6 +53,7 @@ std::int64_t Simulation::relax(RelaxationState& state, double tolerance, double 
   const auto& solver = *setup_.statics;
   auto& report = relaxation_report_;
   double first = 0.0;  // the first residual, the reference when nothing is loaded
+  const double applied = applied_load2();  // the body forces' part: fixed within a load step
   const auto measure = [&](std::int64_t iteration, bool sample) {
     // The load now: body forces and the reactions of the held components as they are (at the
     // start of a load step these are far from their final values), but not below the largest
@@ -60,7 +61,7 @@ std::int64_t Simulation::relax(RelaxationState& state, double tolerance, double 
     // residual cannot fall below round-off of the forces it carried).
     const auto norms = residual_norms(p_, state);
     if (iteration == 0) first = std::sqrt(norms.residual2);
-    const double load = std::max(std::sqrt(load_norm2(norms)), floor);
+    const double load = std::max(std::sqrt(applied + norms.reaction2), floor);
     const double reference = load > 0.0 ? load : first;
     const double ratio = reference > 0.0 ? std::sqrt(norms.residual2) / reference : 0.0;
     if (!std::isfinite(ratio))
@@ -175,7 +176,8 @@ double Simulation::static_step(const StepExtras& extras) {
   for (int a = 0; a < p_.dim(); ++a) std::fill(p_.velocity[a].begin(), p_.velocity[a].end(), 0.0);
   apply_layers();
   compute_forces();
-  load_scale_ = std::max(load_scale_, std::sqrt(load_norm2(residual_norms(p_, state))));
+  load_scale_ =
+      std::max(load_scale_, std::sqrt(applied_load2() + residual_norms(p_, state).reaction2));
   // The load changed from λ − 1/N to λ over the step: its body forces' work is trapezoidal.
   return work_since(baseline, lambda - 0.5 / static_cast<double>(setup_.load_steps));
 }

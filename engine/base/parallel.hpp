@@ -8,6 +8,7 @@
 #include <functional>
 #include <type_traits>
 #include <utility>
+#include <vector>
 
 namespace dhpd {
 inline constexpr std::int64_t kParallelMinParticles = 4096;
@@ -39,6 +40,27 @@ void for_each_particle(std::size_t count, F&& f) {
   const auto n = static_cast<std::int64_t>(count);
 #pragma omp parallel for schedule(static) if (n >= kParallelMinParticles)
   for (std::int64_t i = 0; i < n; ++i) f(static_cast<std::size_t>(i));
+}
+
+/// Σ over fixed blocks of kSumBlock particles of f(i, sums), in parallel from
+/// kParallelMinParticles on, the blocks' sums added in order (Sums::operator+=): the same bits for
+/// any thread count.
+inline constexpr std::int64_t kSumBlock = 1024;
+template <class Sums, class F>
+Sums blocked_sum(std::size_t count, F&& f) {
+  const auto n = static_cast<std::int64_t>(count);
+  const std::int64_t blocks = (n + kSumBlock - 1) / kSumBlock;
+  std::vector<Sums> part(static_cast<std::size_t>(blocks));
+#pragma omp parallel for schedule(static) if (n >= kParallelMinParticles)
+  for (std::int64_t b = 0; b < blocks; ++b) {
+    Sums s;
+    for (std::int64_t i = b * kSumBlock; i < std::min(n, (b + 1) * kSumBlock); ++i)
+      f(static_cast<std::size_t>(i), s);
+    part[static_cast<std::size_t>(b)] = s;
+  }
+  Sums total;
+  for (const auto& s : part) total += s;
+  return total;
 }
 
 /// Calls f(std::integral_constant<int, D>{}) with D = dim (1, 2, else 3): the one place a run's

@@ -10,27 +10,6 @@
 namespace dhpd {
 namespace {
 
-constexpr std::int64_t kBlock = 1024;
-
-/// Σ over fixed blocks of particles of f(i, sums), blocks added in order: the same bits for any
-/// thread count.
-template <class Sums, class F>
-Sums blocked_sum(std::size_t count, F&& f) {
-  const auto n = static_cast<std::int64_t>(count);
-  const std::int64_t blocks = (n + kBlock - 1) / kBlock;
-  std::vector<Sums> part(static_cast<std::size_t>(blocks));
-#pragma omp parallel for schedule(static) if (n >= kParallelMinParticles)
-  for (std::int64_t b = 0; b < blocks; ++b) {
-    Sums s;
-    for (std::int64_t i = b * kBlock; i < std::min(n, (b + 1) * kBlock); ++i)
-      f(static_cast<std::size_t>(i), s);
-    part[static_cast<std::size_t>(b)] = s;
-  }
-  Sums total;
-  for (const auto& s : part) total += s;
-  return total;
-}
-
 struct Pair {
   double a = 0.0, b = 0.0;
   Pair& operator+=(const Pair& o) {

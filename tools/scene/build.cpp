@@ -63,10 +63,6 @@ geometry::PointSet part_points(const Scene& s, std::size_t p) {
   return read_points_file(part.points_file, options);
 }
 
-std::string point_text(const geometry::Vec3& x, int dim) {
-  return fmt::format("[{}]", fmt::join(x.begin(), x.begin() + dim, ", "));
-}
-
 /// Points that would make the run unstable are refused at load time, naming their part.
 void check_points(const Scene& s, const geometry::PointSet& pts) {
   const int dim = s.dimension;
@@ -87,6 +83,10 @@ void check_points(const Scene& s, const geometry::PointSet& pts) {
 }
 
 }  // namespace
+
+std::string point_text(const geometry::Vec3& x, int dim) {
+  return fmt::format("[{}]", fmt::join(x.begin(), x.begin() + dim, ", "));
+}
 
 /// Every part's particles in order; a point inside a later lattice or mesh part's shape is
 /// dropped (that part wins).

@@ -9,6 +9,9 @@
 
 namespace dhpd::scene {
 
+/// "[x, y]" of a point's first `dim` coordinates, for messages.
+std::string point_text(const geometry::Vec3& x, int dim);
+
 /// Every part's particles in order (lattices filled, meshes meshed, points files read); a point
 /// inside a later lattice or mesh part's shape is dropped (that part wins).
 geometry::PointSet body_points(const Scene& scene);

@@ -10,13 +10,6 @@
 #include "tools/scene/build.hpp"
 
 namespace dhpd::scene {
-namespace {
-
-std::string point_text(const geometry::Vec3& x, int dim) {
-  return fmt::format("[{}]", fmt::join(x.begin(), x.begin() + dim, ", "));
-}
-
-}  // namespace
 
 /// The layer of boundary condition `k` (a `fictitious_layer`): the body's points `pts` within one
 /// horizon of the face, mirrored (docs/theory.md §23), appended to `all`. Refused

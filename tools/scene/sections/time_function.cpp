@@ -2,6 +2,7 @@
 // theory.md §11): a number, {ramp: T, to: V}, or {table: [[t, v], ...]} or {table: FILE.csv}.
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
