@@ -143,6 +143,11 @@ class Simulation {
     /// (RangeTask): each range before the step changes those particles, e.g. copying the damage
     /// for a measurement that the force pass's side task takes.
     const RangeTask* before_change = nullptr;
+    /// A static load step calls this after each relaxation, before bonds break (EditTask): it may
+    /// edit the discretisation (a refinement event) and returns whether it did; the step then
+    /// relaxes the edited state again before any bond breaks (docs/theory.md §22, refinement
+    /// between relaxations).
+    const EditTask* between_relaxations = nullptr;
   };
   void step(StepExtras extras);
   void step() { step(StepExtras{}); }
@@ -155,6 +160,8 @@ class Simulation {
   /// The fraction of the loads applied: k / load_steps after static load step k (inside a load
   /// step, the one it solves); 1 in dynamics.
   double load_factor() const;
+  /// Inside a static load step (between its relaxations): load_factor() is the one it solves.
+  bool solving_load_step() const { return solving_load_step_; }
   /// What the last static load step did.
   const RelaxationReport& last_relaxation() const { return relaxation_report_; }
   /// The fictitious boundary layers (docs/theory.md §23), bound to slots.
@@ -313,6 +320,17 @@ class Simulation {
   /// One static load step (simulation_static.cpp): the extras run first; returns the body
   /// forces' work.
   double static_step(const StepExtras& extras);
+  /// The work of a load step so far: booked segments, and the baseline of the open one.
+  struct StaticWork {
+    WorkBaseline since;
+    double done = 0.0;
+  };
+  /// Relaxes a load step's state, breaking bonds and calling `edit` between relaxations until
+  /// nothing breaks and nothing is edited (simulation_static.cpp).
+  void relax_and_break(RelaxationState& state, const EditTask* edit, StaticWork& work, double mean);
+  /// Calls `edit`; when it edited the discretisation, books the work up to it and prepares the
+  /// edited state (prescribed displacements, forces, a new work baseline). Returns whether.
+  bool edit_between_relaxations(const EditTask& edit, StaticWork& work, double mean);
   /// Relaxes the current load to `tolerance` of it, or of `floor` when that is larger (one
   /// round); returns the iterations.
   std::int64_t relax(RelaxationState& state, double tolerance, double floor);

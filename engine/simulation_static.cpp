@@ -136,50 +136,81 @@ double Simulation::static_step(const StepExtras& extras) {
     ~Done() { flag = false; }
   } done{solving_load_step_};
   relaxation_report_ = {};
-  const auto baseline = work_baseline();  // the last equilibrium
+  StaticWork work{work_baseline(), 0.0};  // from the last equilibrium
   const double lambda = load_factor();
   RelaxationState state;
-  state.held = prescribed_axes(loads_, p_.size());
-  const double floor = load_scale_;
   apply_prescribed_displacement(loads_, setup_.boundary_conditions, lambda, lambda, p_);
   prepare_relaxation(state);
-  auto& report = relaxation_report_;
-  const auto& solver = *setup_.statics;
-  // With fracture, the rounds that only find the next bonds to break relax to the looser
-  // round_tolerance; the state a round leaves unbroken is relaxed to the tolerance and tested
-  // again.
-  const double loose = std::max(solver.tolerance, solver.round_tolerance);
-  double tolerance = setup_.effects.fracture ? loose : solver.tolerance;
-  for (report.rounds = 1;; ++report.rounds) {
-    report.iterations += relax(state, tolerance, floor);
-    if (!setup_.effects.fracture) break;
-    const auto before = broken_;
-    broken_ += break_bonds(bonds_, p_, bond_constants());
-    report.broken += broken_ - before;
-    if (broken_ == before) {
-      if (tolerance == solver.tolerance) break;
-      tolerance = solver.tolerance;
-      continue;
-    }
-    tolerance = loose;
-    // The broken bonds made their particles softer: each takes its new stable pseudo-step, so a
-    // particle left hanging by a few bonds is not overdamped into a stall.
-    particle_time_steps(bonds_, p_, particle_dt_);
-    prepare_relaxation(state);
-    if (report.rounds == solver.max_break_rounds)
-      throw InstabilityError(fmt::format(
-          "bonds still broke after {} relaxations in load step {} (load factor {:.6g}; {} bonds "
-          "broke in it): the crack grows unstably at this load (take more load steps, or raise "
-          "solver.max_break_rounds)",
-          report.rounds, steps_ + 1, lambda, report.broken));
-  }
+  // The load changed from λ − 1/N to λ over the step: its body forces' work is trapezoidal.
+  const double mean = lambda - 0.5 / static_cast<double>(setup_.load_steps);
+  relax_and_break(state, extras.between_relaxations, work, mean);
   for (int a = 0; a < p_.dim(); ++a) std::fill(p_.velocity[a].begin(), p_.velocity[a].end(), 0.0);
   apply_layers();
   compute_forces();
   load_scale_ =
       std::max(load_scale_, std::sqrt(applied_load2() + residual_norms(p_, state).reaction2));
-  // The load changed from λ − 1/N to λ over the step: its body forces' work is trapezoidal.
-  return work_since(baseline, lambda - 0.5 / static_cast<double>(setup_.load_steps));
+  return work.done + work_since(work.since, mean);
+}
+
+void Simulation::relax_and_break(RelaxationState& state, const EditTask* edit, StaticWork& work,
+                                 double mean) {
+  auto& report = relaxation_report_;
+  const auto& solver = *setup_.statics;
+  const double lambda = load_factor();
+  const double floor = load_scale_;
+  // With fracture, the rounds that only find the next bonds to break relax to the looser
+  // round_tolerance; the state a round leaves unbroken is relaxed to the tolerance and tested
+  // again. An edit (a refinement event) comes before any bond breaks: the edited state is relaxed
+  // again first, so bonds break on the discretisation the triggers asked for (§22, refinement
+  // between relaxations).
+  const double loose = std::max(solver.tolerance, solver.round_tolerance);
+  double tolerance = setup_.effects.fracture || edit ? loose : solver.tolerance;
+  for (report.rounds = 1;; ++report.rounds) {
+    report.iterations += relax(state, tolerance, floor);
+    const bool edited = edit && edit_between_relaxations(*edit, work, mean);
+    const auto before = broken_;
+    if (edited) {
+      ++report.edits;
+      prepare_relaxation(state);
+    } else if (setup_.effects.fracture) {
+      broken_ += break_bonds(bonds_, p_, bond_constants());
+      report.broken += broken_ - before;
+    }
+    if (!edited && broken_ == before) {
+      if (tolerance == solver.tolerance) return;
+      tolerance = solver.tolerance;
+      continue;
+    }
+    tolerance = loose;
+    if (!edited) {
+      // The broken bonds made their particles softer: each takes its new stable pseudo-step, so
+      // a particle left hanging by a few bonds is not overdamped into a stall.
+      particle_time_steps(bonds_, p_, particle_dt_);
+      prepare_relaxation(state);
+    }
+    if (report.rounds == solver.max_break_rounds)
+      throw InstabilityError(fmt::format(
+          "bonds still broke after {} relaxations in load step {} (load factor {:.6g}; {} bonds "
+          "broke in it, {} refinement events): the crack grows unstably at this load (take more "
+          "load steps, or raise solver.max_break_rounds)",
+          report.rounds, steps_ + 1, lambda, report.broken, report.edits));
+  }
+}
+
+bool Simulation::edit_between_relaxations(const EditTask& edit, StaticWork& work, double mean) {
+  // The work up to the edit is booked first: the edit renumbers what the baseline indexes.
+  const double segment = work_since(work.since, mean);
+  if (!edit()) return false;
+  work.done += segment;
+  work.since = work_baseline();
+  // Children of held particles take the prescribed displacement exactly (the mapping gives them
+  // their parent's field, which differs from it by the field's gradient): the work of that last
+  // move is booked with the load step's (the baseline is from before it).
+  const double lambda = load_factor();
+  apply_prescribed_displacement(loads_, setup_.boundary_conditions, lambda, lambda, p_);
+  apply_layers();
+  compute_forces();
+  return true;
 }
 
 }  // namespace dhpd

@@ -137,7 +137,10 @@ std::vector<std::vector<NewBond>> decide_rows(const Simulation& sim, const Spati
   const OldGeneration old{sim.bonds(), p, &ev.parents, ev.parent_slot};
   const OldSegments segments(old, ev.near);
   const bool rule = sim.broken_bonds() > 0;
-  const bool fracture = sim.setup().effects.fracture;
+  // A static run relaxes the mapped state before any bond breaks (docs/theory.md §22, refinement
+  // between relaxations): a child bond the mapping overstretches is left to the relaxation, which
+  // decides whether it breaks.
+  const bool fracture = sim.setup().effects.fracture && !sim.is_static();
   const auto& s0 = sim.critical_stretch();
   auto previous = [&](std::int32_t x) {
     const auto c = child_of_slot[static_cast<std::size_t>(x)];

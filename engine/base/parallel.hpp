@@ -25,6 +25,11 @@ using SideTask = std::function<void()>;
 /// cover every particle), so the work is shared by the team inside the pass's own fork and join.
 using RangeTask = std::function<void(std::int64_t begin, std::int64_t end)>;
 
+/// Work a caller does between two phases of a step, on the whole state and outside any parallel
+/// pass (e.g. a refinement event between two relaxations of a static load step): returns whether
+/// it edited the discretisation.
+using EditTask = std::function<bool()>;
+
 /// The part [begin, end) of n items that thread `thread` of a team of `team` takes: contiguous
 /// ranges in thread order, the first n % team of them one item longer.
 inline std::pair<std::int64_t, std::int64_t> team_range(std::int64_t n, int thread, int team) {

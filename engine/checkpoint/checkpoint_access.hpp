@@ -170,11 +170,16 @@ struct CheckpointAccess {
     out = std::move(w.bytes());
   }
 
-  /// Overlays a save_step of this simulation's discretisation (same bonds and rows).
-  static void load_step(Simulation& s, archive::Reader& ar) {
+  /// Overlays a save_step of this simulation's discretisation (same bonds and rows). With
+  /// `saved_start`, the step was saved from rows laid out at those starts (an arena with room
+  /// between rows, as events leave it) and `s` holds the same rows packed (a whole state loaded):
+  /// the flags are packed to fit.
+  static void load_step(Simulation& s, archive::Reader& ar,
+                        const std::vector<std::int64_t>* saved_start = nullptr) {
     load_fields(s, ar, true);
     step_members(s, ar);
     load_timers(s, ar);
+    if (saved_start) pack_flags(s.bonds_, *saved_start, ar);
     if (ar.remaining() != 0) ar.fail("bytes left after the step state");
     if (!particles_fit(s) || s.bonds_.rows.rows() != s.p_.size() ||
         s.bonds_.flags.size() != s.bonds_.other.size())
@@ -184,6 +189,22 @@ struct CheckpointAccess {
     s.edit_.reset();
     s.fused_energy_ = {};
     s.plan_levels();  // the level forces of the restored positions
+  }
+
+  /// The flags of rows that started at `start` (each row's count as now), packed back to back.
+  static void pack_flags(BondRows& b, const std::vector<std::int64_t>& start,
+                         const archive::Reader& ar) {
+    const auto& count = b.rows.count;
+    if (start.size() != count.size()) ar.fail("its rows do not fit this discretisation");
+    std::vector<std::uint8_t> packed;
+    packed.reserve(b.other.size());
+    for (std::size_t i = 0; i < count.size(); ++i) {
+      const auto from = start[i], to = start[i] + count[i];
+      if (from < 0 || to > static_cast<std::int64_t>(b.flags.size()))
+        ar.fail("its rows do not fit this discretisation");
+      packed.insert(packed.end(), b.flags.begin() + from, b.flags.begin() + to);
+    }
+    b.flags = std::move(packed);
   }
 
   template <class Ar>

@@ -27,7 +27,9 @@ class GuardCopy {
   void restore(Simulation& sim) const;
   bool empty() const { return step_.empty(); }
   /// The bytes held now: the step part, and the whole state after before_edit.
-  std::size_t bytes() const { return step_.capacity() + whole_.capacity(); }
+  std::size_t bytes() const {
+    return step_.capacity() + whole_.capacity() + row_start_.capacity() * sizeof(std::int64_t);
+  }
   /// Whether the whole state is held (an edit came after take()).
   bool holds_whole_state() const { return !whole_.empty(); }
 
@@ -36,12 +38,15 @@ class GuardCopy {
     return sim.generation() == generation_ && sim.layout_version() == layout_;
   }
   std::vector<std::byte> step_, whole_;
+  std::vector<std::int64_t> row_start_;  ///< the rows' starts at before_edit (see restore)
   std::int64_t generation_ = -1, layout_ = -1;
 };
 
 /// The step part alone (what GuardCopy::take keeps), and its overlay on a simulation of the same
 /// discretisation: throws InputError when the bytes do not fit it.
 void save_step_state_into(const Simulation& sim, std::vector<std::byte>& out);
-void load_step_state(const std::vector<std::byte>& bytes, Simulation& sim);
+/// `saved_start`: the row starts the step part was saved with, when `sim` holds its rows packed.
+void load_step_state(const std::vector<std::byte>& bytes, Simulation& sim,
+                     const std::vector<std::int64_t>* saved_start = nullptr);
 
 }  // namespace dhpd

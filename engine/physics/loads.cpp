@@ -189,13 +189,11 @@ void update_prescribed_velocity(ResolvedLoads& loads,
     }
 }
 
-Vec3 reaction_force(const ResolvedLoads& loads, const ParticleStore& p,
-                    const geometry::Shape& region) {
+Vec3 reaction_force(const ResolvedLoads& loads, const ParticleStore& p, std::int32_t condition) {
   Vec3 r{0, 0, 0};
-  const auto& X = p.reference_position;
   for (std::size_t k = 0; k < loads.prescribed.size(); ++k) {
+    if (loads.condition[k] != condition) continue;
     const auto i = static_cast<std::size_t>(loads.prescribed[k]);
-    if (!region.contains({X[0][i], X[1][i], X[2][i]}, p.dim())) continue;
     for (int a = 0; a < p.dim(); ++a)
       if (loads.mask[k][a]) r[a] -= p.volume[i] * p.force_density[a][i];
   }

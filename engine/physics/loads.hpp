@@ -104,10 +104,10 @@ void update_prescribed_velocity(ResolvedLoads& loads,
                                 const std::vector<BoundaryCondition>& conditions, double t,
                                 double dt);
 
-/// The force the held components of the particles inside `region` take from their supports:
-/// −Σ V f over those components (f the force density with body forces), N.
-Vec3 reaction_force(const ResolvedLoads& loads, const ParticleStore& p,
-                    const geometry::Shape& region);
+/// The force the components that boundary condition `condition` holds take from their supports:
+/// −Σ V f over those components (f the force density with body forces), N. Its particles are
+/// those it held at the start and their children (a child may lie just outside the region).
+Vec3 reaction_force(const ResolvedLoads& loads, const ParticleStore& p, std::int32_t condition);
 
 /// Per particle of `n`: bit a set when axis a has a prescribed velocity.
 std::vector<std::uint8_t> prescribed_axes(const ResolvedLoads& loads, std::size_t n);

@@ -32,6 +32,7 @@ struct RelaxationReport {
   std::int64_t iterations = 0;  ///< ADR iterations, every round
   int rounds = 0;               ///< relaxations (1 + those after bonds broke)
   std::int64_t broken = 0;      ///< bonds broken in the load step
+  int edits = 0;                ///< edits between its relaxations (refinement events)
   double residual = 0.0;        ///< |R| / |load| at the end
   double damping = 0.0;         ///< c of the last iteration
   /// (iteration, |R|/|load|, c) every trace_every iterations and at the end of each round.

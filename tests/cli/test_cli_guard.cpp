@@ -131,6 +131,49 @@ TEST_F(CliTest, UnstableRunKeepsItsLastGoodStateAsFinalFrameAndCheckpoint) {
   EXPECT_EQ(failing_step(again.err), failed) << again.err;
 }
 
+constexpr const char* kNotched = R"(name: notched
+dimension: 2
+plane: stress
+thickness: 0.001
+materials:
+  glass: {E: 72.0e9, rho: 2440, G0: 3.8}
+body:
+  - {shape: box, min: [0, 0], max: [0.02, 0.02], spacing: 0.001, material: glass}
+cracks:
+  - [[0.0, 0.01], [0.005, 0.01]]
+partial_volume: linear
+boundary_conditions:
+  - {region: {shape: box, min: [0, 0], max: [0.02, 0.002]}, fixed: true}
+  - {region: {shape: box, min: [0, 0.018], max: [0.02, 0.02]}, displacement: {y: 3.0e-6}}
+no_fail:
+  - {shape: box, min: [0, 0], max: [0.02, 0.003]}
+  - {shape: box, min: [0, 0.017], max: [0.02, 0.02]}
+effects: {fracture: true, refinement: true}
+solver: {type: static, tolerance: 1.0e-5, max_break_rounds: 3}
+time: {steps: 10}
+)";
+
+// A static run refined between the relaxations of its load steps, stopped in a load step after
+// several events in it (too many break rounds): its last good state is the load step before,
+// restored from the guard's copy across those events, and its checkpoint fails again the same way.
+TEST_F(CliTest, StaticAdaptiveRunStoppedAfterEventsKeepsTheLoadStepBefore) {
+  write("notched.yaml", kNotched);
+  const auto o = dhpd({"run", "notched.yaml", "-o", "out", "-q"});
+  ASSERT_EQ(o.code, 3) << o.err;
+  EXPECT_EQ(o.err.find("could not be restored"), std::string::npos) << o.err;
+  const auto failed = o.err.find("relaxations in load step ");
+  ASSERT_NE(failed, std::string::npos) << o.err;
+  const long long step = std::stoll(o.err.substr(failed + 25));
+  EXPECT_EQ(last_good_step(o.err), step - 1) << o.err;
+  // refinement.csv: events in the failing load step, numbered by it (column `step`).
+  const auto csv = read_text(dir_ / "out" / "refinement.csv");
+  EXPECT_NE(csv.find(fmt::format("\n2,{},", step)), std::string::npos) << csv;
+  const auto again = dhpd({"run", "notched.yaml", "-o", "again", "--restart", "out", "-q"});
+  EXPECT_EQ(again.code, 3) << again.err;
+  EXPECT_NE(again.err.find(fmt::format("relaxations in load step {} ", step)), std::string::npos)
+      << again.err;
+}
+
 }  // namespace
 }  // namespace cli_test
 }  // namespace dhpd

@@ -61,8 +61,8 @@ BarResult solve_bar(const std::string& model) {
   const auto& p = sim->particles();
   // Away from the held ends and the interface by two coarse horizons.
   const double reach = 2 * 3.015 * 0.01;
-  const auto left = reaction_force(sim->loads(), p, scene.boundary_conditions[0].bc.region);
-  const auto right = reaction_force(sim->loads(), p, scene.boundary_conditions[1].bc.region);
+  const auto left = reaction_force(sim->loads(), p, 0);
+  const auto right = reaction_force(sim->loads(), p, 1);
   std::vector<double> sections;
   for (const double at : {0.25, 0.5, 0.75}) sections.push_back(sim->force_across(0, at)[0]);
   return {slope(p, 0.03 + reach, 0.5 - reach), slope(p, 0.5 + reach, 0.985 - reach), left[0],
@@ -220,8 +220,7 @@ TEST(Statics, BondsBreakBetweenRelaxationsUntilTheBarParts) {
     held.boundary_conditions[1].bc.displacement[0] = fraction * s0 * 0.95;
     sim = scene::build_simulation(held);
     sim->step();
-    const auto r =
-        reaction_force(sim->loads(), sim->particles(), held.boundary_conditions[1].bc.region);
+    const auto r = reaction_force(sim->loads(), sim->particles(), 1);
     std::printf("pulled by %.2f s0 L: %lld bonds broken in %d relaxations, reaction %.3e\n",
                 fraction, static_cast<long long>(sim->broken_bonds()),
                 sim->last_relaxation().rounds, r[0]);
@@ -251,12 +250,11 @@ TEST(Statics, NotchedPlateCracksAlongItsNotchAndParts) {
       "effects: {fracture: true}\nsolver: {type: static, tolerance: 1.0e-5}\ntime: {steps: 10}\n";
   const auto scene = scene::parse_scene(text, "notched.yaml");
   auto sim = scene::build_simulation(scene);
-  const auto& top = scene.boundary_conditions[1].bc.region;
   std::vector<double> reaction;
   std::vector<std::int64_t> broken;
   for (int k = 0; k < 10; ++k) {
     sim->step();
-    reaction.push_back(reaction_force(sim->loads(), sim->particles(), top)[1]);
+    reaction.push_back(reaction_force(sim->loads(), sim->particles(), 1)[1]);
     broken.push_back(sim->broken_bonds());
   }
   for (int k = 0; k < 10; ++k)

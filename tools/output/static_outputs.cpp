@@ -41,11 +41,12 @@ std::vector<double> static_values(const scene::Scene& s, const Simulation& sim) 
               r.residual};
   }
   std::size_t layer = 0;  // layers are numbered in the conditions' order
-  for (const auto& c : s.boundary_conditions) {
+  for (std::size_t k = 0; k < s.boundary_conditions.size(); ++k) {
+    const auto& c = s.boundary_conditions[k];
     if (!reported(s, c.bc)) continue;
-    const auto force = c.bc.layer_axis >= 0
-                           ? sim.layer_reaction(layer++)
-                           : reaction_force(sim.loads(), sim.particles(), c.bc.region);
+    const auto force = c.bc.layer_axis >= 0 ? sim.layer_reaction(layer++)
+                                            : reaction_force(sim.loads(), sim.particles(),
+                                                             static_cast<std::int32_t>(k));
     for (int a = 0; a < s.dimension; ++a) values.push_back(force[a]);
   }
   for (const auto& section : s.output.sections) {

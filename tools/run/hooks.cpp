@@ -46,8 +46,10 @@ std::vector<io::MaterialCount> material_counts(const scene::Scene& s, const Simu
 void RefinementHook::log(const Simulation& sim, const refine::RefinementEvent& ev) {
   io::RefinementRow r;
   r.generation = ev.generation;
-  r.step = sim.steps_done();
-  r.time = sim.time();
+  // In a static run: the load step the event came in (between its relaxations) and its factor.
+  const bool static_run = sim.is_static();
+  r.step = sim.steps_done() + (static_run && sim.solving_load_step() ? 1 : 0);
+  r.time = static_run ? sim.load_factor() : sim.time();
   r.parents = static_cast<std::int64_t>(ev.parents);
   r.children = static_cast<std::int64_t>(ev.children);
   r.dropped = static_cast<std::int64_t>(ev.dropped);
@@ -66,12 +68,14 @@ void RefinementHook::log(const Simulation& sim, const refine::RefinementEvent& e
   r.resort_seconds = ev.resort_seconds;
   csv->write(r);
   ++events;
+  const auto when = static_run ? fmt::format("in load step {} (load factor {:.4g})", r.step, r.time)
+                               : fmt::format("at step {} (t = {:.4g} s)", r.step, r.time);
   log_lines.line(fmt::format(
-      "dhpd: refinement {} at step {} (t = {:.4g} s): {} parents -> {} children; {} "
-      "particles; {} rows, {} bonds rebuilt ({} start broken by no-healing, {} overstretched); "
-      "dt = {:.4g} s{}; {:.4f} s{}",
-      r.generation, r.step, r.time, r.parents, r.children, r.particles, r.rows_rebuilt,
-      r.bonds_rebuilt, r.started_broken, r.started_overstretched, r.dt,
+      "dhpd: refinement {} {}: {} parents -> {} children; {} particles; {} rows, {} bonds "
+      "rebuilt ({} start broken by no-healing, {} overstretched){}{}; {:.4f} s{}",
+      r.generation, when, r.parents, r.children, r.particles, r.rows_rebuilt, r.bonds_rebuilt,
+      r.started_broken, r.started_overstretched,
+      static_run ? std::string() : fmt::format("; dt = {:.4g} s", r.dt),
       sim.time_levels()
           ? fmt::format(" over {} time levels (particles {})", sim.time_levels()->count(),
                         fmt::join(sim.particles_per_level(), " / "))

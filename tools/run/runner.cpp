@@ -136,10 +136,12 @@ void log_load_step(RunContext& ctx) {
   const auto& r = sim.last_relaxation();
   ctx.log->line(fmt::format(
       "dhpd: load step {} of {} (load factor {:.6g}): {} iterations in {} relaxation{}, "
-      "residual {:.3g} of the load{}",
+      "residual {:.3g} of the load{}{}",
       sim.steps_done(), ctx.state->planned_steps, sim.load_factor(), r.iterations, r.rounds,
       r.rounds == 1 ? "" : "s", r.residual,
-      r.broken > 0 ? fmt::format(", {} bonds broke", r.broken) : std::string()));
+      r.broken > 0 ? fmt::format(", {} bonds broke", r.broken) : std::string(),
+      r.edits > 0 ? fmt::format(", {} refinement event{}", r.edits, r.edits == 1 ? "" : "s")
+                  : std::string()));
 }
 
 /// Steps until the schedule says the run is over; refinement checks after each due step, crack
@@ -164,6 +166,15 @@ void time_loop(RunContext& ctx, io::Progress& progress) {
       if (hook) hook->refiner.set_cancel_check({});
     }
   } forget{hook};
+  // A static load step checks the triggers after each of its relaxations, before bonds break
+  // (docs/theory.md §22, refinement between relaxations): a running crack is refined as it grows.
+  const EditTask refine_in_step = hook && sim.is_static() ? EditTask([&] {
+    if (signals.caught()) return false;
+    const auto ev = hook->refiner.check(sim);
+    if (ev.parents > 0) hook->log(sim, ev);
+    return ev.parents > 0;
+  })
+                                                          : EditTask();
   for (std::int64_t k = first; !schedule.finished(k - 1, sim.time()); ++k) {
     // A step that a history row or frame follows computes its strain energy in its force pass.
     const bool records =
@@ -193,14 +204,20 @@ void time_loop(RunContext& ctx, io::Progress& progress) {
           if (ctx.cracks && std::uncaught_exceptions() > 0) ctx.cracks->flush_quietly();
         }
       } after_step{ctx};
-      sim.step({.strain_energy = records,
-                .side_task = frame || crack ? &both : nullptr,
-                .before_change = frame_copy || crack_copy ? &copies : nullptr});
+      try {
+        sim.step({.strain_energy = records,
+                  .side_task = frame || crack ? &both : nullptr,
+                  .before_change = frame_copy || crack_copy ? &copies : nullptr,
+                  .between_relaxations = refine_in_step ? &refine_in_step : nullptr});
+      } catch (const refine::EventCancelled&) {
+        progress.finish();
+        interrupt_event(ctx, signals.caught(), k - 1);
+      }
       if (ctx.cracks) ctx.cracks->flush();
     }
     if (ctx.relaxation) log_load_step(ctx);
     // A signal already caught starts no refinement event: the run stops after this step.
-    if (hook && hook->refiner.due(k, sim) && !signals.caught()) {
+    if (hook && !sim.is_static() && hook->refiner.due(k, sim) && !signals.caught()) {
       try {
         const auto ev = hook->refiner.check(sim);
         if (ev.parents > 0) hook->log(sim, ev);

@@ -102,11 +102,6 @@ void check_static_solver(const MapView& top, const Scene& s) {
          "the classical variable-horizon model's ghost forces make its stiffness unsymmetric: "
          "the static solver's step estimate needs a symmetric one",
          "dual-horizon or constant-horizon models (or solver: dynamic)");
-  if (s.refinement)
-    MapView(top.require("effects"), {})
-        .require("refinement")
-        .fail("refinement is not available with the static solver yet",
-              "false (or solver: dynamic)");
   refuse_velocity_conditions(top, s);
 }
 
