@@ -85,9 +85,10 @@ import yaml
 
 import launch
 import study_angles
+import study_fe
 import study_fronts
 import study_members
-from study_metrics import distance_to_polyline
+from study_metrics import check_mirror, mirror_spread
 from study_report import METRICS, criteria_failures, fmt, write_outputs
 
 VARIANT_FILE = "study_variant.json"  # in each run folder: the variant and what its run measured
@@ -126,7 +127,7 @@ def load_study(path):
             fail(f"{path}: missing key '{key}'")
     unknown = set(study) - {"name", "case", "reference", "variants", "error", "budget", "threads",
                             "frames", "mirror", "angles", "criteria", "perturbed_reference",
-                            "reference_spread", "fronts"}
+                            "reference_spread", "fronts", "fe_reference", "published"}
     if unknown:
         fail(f"{path}: unknown key(s) {sorted(unknown)}")
     if study.get("error", "angle_deg") not in METRICS:
@@ -138,7 +139,7 @@ def load_study(path):
             if isinstance(limit, bool) or not isinstance(limit, (int, float)) or limit < 0:
                 fail(f"{path}: {section}.{key} must be a number >= 0, not {limit!r}")
     if "mirror" in study:
-        check_mirror(path, study["mirror"])
+        check_mirror(path, study["mirror"], fail)
     if not isinstance(study.get("reference", {}), dict) or "grid" in study.get("reference", {}):
         fail(f"{path}: reference must be {{label: TEXT, set: {{KEY: VALUE, ...}}}} (one run, "
              "no grid)")
@@ -160,36 +161,16 @@ def load_study(path):
             fail(f"{path}: a variant's expect must be 'miss', not {v['expect']!r}")
     if "fronts" in study and study_fronts.check(study["fronts"]):
         fail(f"{path}: {study_fronts.check(study['fronts'])}")
+    if "fe_reference" in study:
+        problem = study_fe.check(study["fe_reference"], os.path.dirname(os.path.abspath(path)))
+        if problem:
+            fail(f"{path}: {problem}")
+    if not isinstance(study.get("published", ""), str):
+        fail(f"{path}: published must be a text, not {study['published']!r}")
     if "angles" in study and not study_angles.valid(study["angles"]):
         fail(f"{path}: angles must be {{early_distance: NUMBER > 0}} (m), "
              f"not {study['angles']!r}")
     return study
-
-
-def check_mirror(path, mirror):
-    ok = (isinstance(mirror, dict) and set(mirror) <= {"tips", "axis", "at"}
-          and isinstance(mirror.get("tips"), list) and len(mirror["tips"]) == 2
-          and all(isinstance(t, str) for t in mirror["tips"])
-          and mirror.get("axis") in (0, 1, 2)
-          and isinstance(mirror.get("at", 0.0), (int, float))
-          and not isinstance(mirror.get("at", 0.0), bool)
-          and not isinstance(mirror.get("axis"), bool))
-    if not ok:
-        fail(f"{path}: mirror must be {{tips: [TIP, TIP], axis: 0|1|2, at: NUMBER}}, "
-             f"not {mirror!r}")
-
-
-def mirror_spread(paths, mirror):
-    """Largest distance between one mirror tip's path and the reflected path of the other (both
-    ways); None when the run lacks either tip."""
-    a, b = (paths.get(t) for t in mirror["tips"])
-    if a is None or b is None or len(a) == 0 or len(b) == 0:
-        return None
-    axis, at = mirror["axis"], float(mirror.get("at", 0.0))
-    a_m, b_m = a.copy(), b.copy()
-    a_m[:, axis] = 2 * at - a_m[:, axis]
-    b_m[:, axis] = 2 * at - b_m[:, axis]
-    return float(max(distance_to_polyline(a, b_m).max(), distance_to_polyline(b, a_m).max()))
 
 
 def file_sha256(path):
@@ -242,11 +223,17 @@ def run_one(dhpd, case, overrides, out_dir, threads):
     if os.path.isdir(out_dir):  # the study's own folder of a run it cannot reuse: made afresh
         shutil.rmtree(out_dir)
     run = launch.run(dhpd, case, out_dir, overrides, threads)
-    if run.code != 0:
+    # A run the guard stopped (exit 3: unstable, or a static run that did not converge) is a
+    # result of its variant: its row says so and has no errors.
+    stopped = run.code == 3 and (run.summary or {}).get("status") == "unstable"
+    if run.code != 0 and not stopped:
         fail(f"run of {case} with {overrides} failed (exit {run.code}):\n{run.stderr}")
     if run.summary is None:
         fail(f"run of {case} with {overrides} wrote no readable {out_dir}/summary.json")
     result = {"wall_s": run.wall, "peak_mib": run.peak_mib, "peak_source": run.peak_source}
+    if stopped:
+        print(f"dhpd study: the run stopped: {run.summary.get('message', '')}", flush=True)
+        return run.summary, dict(result, reused=False)
     with open(os.path.join(out_dir, VARIANT_FILE + ".tmp"), "w") as f:
         json.dump(dict(record, result=result), f, indent=2)
     os.replace(os.path.join(out_dir, VARIANT_FILE + ".tmp"), os.path.join(out_dir, VARIANT_FILE))
@@ -338,8 +325,8 @@ def plan(args):
 class Study:
     """The measured rows so far; study.csv, study.md and pareto.png rewritten after each."""
 
-    def __init__(self, study, out, dhpd):
-        self.study, self.out, self.dhpd = study, out, dhpd
+    def __init__(self, study, out, dhpd, here):
+        self.study, self.out, self.dhpd, self.here = study, out, dhpd, here
         self.threads = study.get("threads")
         self.early = study.get("angles", {}).get("early_distance", 0.0)
         self.rows, self.perturbed, self.spread, self.total = [], None, None, 0
@@ -348,9 +335,15 @@ class Study:
     def measure(self, label, case, overrides, folder, reach=None, member=False):
         row, summary = measure_run(self.dhpd, label, case, overrides,
                                    os.path.join(self.out, folder), self.threads)
+        row["angles"] = []
+        if row["status"] != "completed":  # stopped by the guard: nothing to compare
+            return row, summary
         if not member:
             study_members.compare_with_members(row, summary, self.members, self.study, reach)
         row["angles"] = study_angles.crack_angles(row["out"], summary, self.early)
+        problem = study_fe.measure(row, self.study, self.here)
+        if problem:
+            fail(f"cannot compare with fe_reference: {problem}")
         return row, summary
 
     def reference(self, label, case, overrides, members):
@@ -382,7 +375,7 @@ def main():
     args = parser.parse_args()
     study, out, (ref_label, ref_case, ref_set), runs, members = plan(args)
     os.makedirs(out, exist_ok=True)
-    state = Study(study, out, args.dhpd)
+    state = Study(study, out, args.dhpd, os.path.dirname(os.path.abspath(args.study)))
     state.total = len(runs)
     state.reference(ref_label, ref_case, ref_set, members)
     for k, (label, case, overrides, expect, group, front) in enumerate(runs):

@@ -192,3 +192,30 @@ def compare(row, summary, ref_row, ref_summary, ref_frame, ref_paths, reach=None
         # "Where the reference has damage": within two of the variant's coarsest spacings.
         row["spurious_reach"] = reach or 2.0 * float(np.max(frame["spacing"]))
         row["spurious_damage"] = spurious_damage(frame, ref_frame, row["spurious_reach"])
+
+
+def check_mirror(path, mirror, fail):
+    """Calls fail(message) when `mirror` is not {tips: [A, B], axis: 0|1|2, at: NUMBER}."""
+    ok = (isinstance(mirror, dict) and set(mirror) <= {"tips", "axis", "at"}
+          and isinstance(mirror.get("tips"), list) and len(mirror["tips"]) == 2
+          and all(isinstance(t, str) for t in mirror["tips"])
+          and mirror.get("axis") in (0, 1, 2)
+          and isinstance(mirror.get("at", 0.0), (int, float))
+          and not isinstance(mirror.get("at", 0.0), bool)
+          and not isinstance(mirror.get("axis"), bool))
+    if not ok:
+        fail(f"{path}: mirror must be {{tips: [TIP, TIP], axis: 0|1|2, at: NUMBER}}, "
+             f"not {mirror!r}")
+
+
+def mirror_spread(paths, mirror):
+    """Largest distance between one mirror tip's path and the reflected path of the other (both
+    ways); None when the run lacks either tip."""
+    a, b = (paths.get(t) for t in mirror["tips"])
+    if a is None or b is None or len(a) == 0 or len(b) == 0:
+        return None
+    axis, at = mirror["axis"], float(mirror.get("at", 0.0))
+    a_m, b_m = a.copy(), b.copy()
+    a_m[:, axis] = 2 * at - a_m[:, axis]
+    b_m[:, axis] = 2 * at - b_m[:, axis]
+    return float(max(distance_to_polyline(a, b_m).max(), distance_to_polyline(b, a_m).max()))

@@ -4,10 +4,12 @@ import json
 import os
 
 import study_angles
+import study_fe
 import study_fronts
 
 METRICS = ["angle_deg", "initiation", "tip_path", "damage", "l2_displacement", "broken_bonds",
-           "branching", "path_both_ways", "crack_distance", "spurious_damage", "momentum"]
+           "branching", "path_both_ways", "crack_distance", "spurious_damage", "momentum"
+           ] + study_fe.METRICS
 # The error each metric measures and the unit pareto.png shows it in (scale from study.csv's).
 AXIS = {"angle_deg": ("crack angle error, largest |Δθ| over the tips", "°", 1.0),
         "initiation": ("initiation time error, largest |Δt| / t_ref", "dimensionless", 1.0),
@@ -19,7 +21,7 @@ AXIS = {"angle_deg": ("crack angle error, largest |Δθ| over the tips", "°", 1
         "path_both_ways": ("tip path error both ways, largest distance", "mm", 1e3),
         "crack_distance": ("crack distance error (Hausdorff)", "mm", 1e3),
         "spurious_damage": ("spurious cracked volume / cracked volume", "dimensionless", 1.0),
-        "momentum": ("momentum drift / Σ m|v|", "dimensionless", 1.0)}
+        "momentum": ("momentum drift / Σ m|v|", "dimensionless", 1.0), **study_fe.AXIS}
 COLUMNS = ["label", "case", "wall_s", "particle_steps", "peak_mib", "particles_end"] + METRICS
 
 
@@ -88,6 +90,8 @@ def plot_pareto(rows, metric, front, reference, path, budget=None, title=""):
                    label=f"budget: {metric} ≤ {budget[metric] * scale:g}"
                    + ("" if AXIS[metric][1] == "dimensionless" else f" {AXIS[metric][1]}"))
     ax.set_xscale("log")
+    if metric in study_fe.LOG_SCALE and shown and all(r[metric] > 0 for r in shown):
+        ax.set_yscale("log")  # errors over decades: a horizon far off and the good ones
     ax.set_xlabel("wall time (s)")
     ax.set_ylabel(axis_label(metric))
     ax.set_title(f"{title}: error against wall time" if title else "error against wall time")
@@ -193,15 +197,17 @@ def control_lines(study, rows):
     return ["", "Controls that must miss a criterion:", ""] + lines
 
 
-def variant_lines(rows, ref_row, front):
+def variant_lines(rows, ref_row, front, metric):
+    """The table of runs: the metrics some run measured (and the plotted one)."""
+    shown = [m for m in METRICS if m == metric or any(r.get(m) is not None for r in rows)]
     lines = ["| variant | wall (s) | vs reference | particle-steps | peak MiB | "
-             + " | ".join(METRICS) + " | Pareto |", "|---" * (6 + len(METRICS)) + "|"]
+             + " | ".join(shown) + " | Pareto |", "|---" * (6 + len(shown)) + "|"]
     for i, r in enumerate(rows):
         speed = ref_row["wall_s"] / r["wall_s"] if r["wall_s"] > 0 else float("nan")
         peak = f"{r['peak_mib']:.0f}" if r.get("peak_mib") is not None else "–"
         lines.append(f"| {r['label']} | {r['wall_s']:.2f} | {speed:.1f}× faster | "
                      f"{r['particle_steps']:.3g} | {peak} | "
-                     + " | ".join(fmt(r[m]) for m in METRICS)
+                     + " | ".join(fmt(r[m]) for m in shown)
                      + f" | {'yes' if i in front else ''} |")
     return lines
 
@@ -233,7 +239,7 @@ def write_outputs(study, rows, ref_row, out, perturbed=None, mirror_spread=None,
         f"Reference: **{ref_row['label']}** ({ref_row['case']}), "
         f"{ref_row['wall_s']:.1f} s, {ref_row['particles_end']} particles.", "",
         f"Peak memory: each engine process's own ({peak}).", ""]
-    lines += variant_lines(rows, ref_row, front)
+    lines += variant_lines(rows, ref_row, front, metric)
     lines += ["", f"Error plotted: `{metric}`, {axis_label(metric)} (pareto.png).", ""]
     lines += study_fronts.lines(rows, ref_row, by_front,
                                 lambda group: cheapest_within(group, budget))
@@ -251,6 +257,7 @@ def write_outputs(study, rows, ref_row, out, perturbed=None, mirror_spread=None,
                         if best else "none of the variants."))
     if "angles" in study:
         lines += study_angles.report(study["angles"]["early_distance"], [ref_row] + rows, out)
+    lines += study_fe.lines(study, rows, ref_row)
     checked = rows + ([perturbed] if perturbed else [])
     lines += perturbed_lines(study, perturbed, criteria_failures(study, checked))
     lines += spread_lines(members, rows)
