@@ -12,6 +12,7 @@
 #include "engine/base/errors.hpp"
 #include "engine/checkpoint/checkpoint.hpp"
 #include "engine/physics/bond_loops.hpp"
+#include "engine/physics/multi_horizon.hpp"
 #include "engine/physics/stable_step.hpp"
 
 namespace dhpd {
@@ -23,6 +24,8 @@ Simulation::Simulation(SimulationSetup setup)
     init_particles();  // takes the points out of setup_
     resolve_layers();
     bonds_ = build_bond_rows(p_, setup_.partial_volume, setup_.cracks);
+    if (setup_.model == ForceModel::MultiHorizon)
+      interaction_scale_ = interaction_scales(bonds_, p_, C_);
     if (corrects_interfaces())
       initial_interfaces_ = correct_level_interfaces(bonds_, p_, setup_.partial_volume, C_, {});
     refresh_rows(bonds_, bond_constants(), true);
@@ -63,7 +66,7 @@ Simulation::Simulation(SimulationSetup setup)
   budget_.tolerance = setup_.energy_tolerance;
   // Classical BB-PD with varying horizons is not conservative (ghost forces do work): only
   // non-finite states and blow-ups far beyond the balance stop it.
-  conservative_ = setup_.model != ForceModel::ClassicalVariable;
+  conservative_ = conserves_momentum(setup_.model);
   blowup_factor_ = conservative_ ? 2.0 : 100.0;
   budget_.initial = e.kinetic - e.verlet_correction + e.strain;
   budget_.observe(0.0);
@@ -77,7 +80,7 @@ double Simulation::estimate_critical_dt() {
   // ghost forces make it not, so that model keeps the bound (docs/theory.md §9).
   if (!std::isfinite(bound) ||
       (!state_based() && (setup_.stable_step == StableStepEstimate::ParticleBound ||
-                          setup_.model == ForceModel::ClassicalVariable)))
+                          !conserves_momentum(setup_.model))))
     return bound;
   // After an edit that leaves the smallest per-particle bound where the last Lanczos estimate
   // found it (new particles like the stiffest ones already there), the top of the spectrum is
@@ -156,7 +159,7 @@ void Simulation::update_bond_constants(const std::vector<std::int32_t>& slots) {
 }
 
 BondConstants Simulation::bond_constants() const {
-  return {setup_.model, setup_.partial_volume, p_, C_, s0_};
+  return {setup_.model, setup_.partial_volume, p_, C_, s0_, interaction_scale_};
 }
 
 void Simulation::compute_forces(bool with_fracture, std::vector<double>* row_energy,

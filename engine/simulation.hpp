@@ -386,6 +386,7 @@ class Simulation {
   BondRows bonds_;
   ResolvedLoads loads_;
   std::vector<double> C_, s0_;
+  std::vector<double> interaction_scale_;  ///< multi-horizon α, two per particle (1D)
   /// The state-based fracture factor Φ of each material (s0 = sqrt(G0/(Φ δ)), §20.4).
   std::vector<double> state_phi_;
   /// The ordinary state-based model's constants and dilatation (family OrdinaryState only).

@@ -29,6 +29,8 @@ Simulation::Discretisation Simulation::begin_edit(std::vector<std::int32_t> ener
   // Kalthoff–Winkler 2D adaptive cracked along them from the back face (docs/theory.md §20.2).
   if (state_based())
     throw InputError("refinement is not available with the state-based families yet");
+  if (setup_.model == ForceModel::MultiHorizon)
+    throw InputError("refinement is not offered with model multi-horizon (α fixed at the start)");
   if (setup_.model == ForceModel::ConstantHorizon)
     throw InputError(
         "refinement needs per-particle horizons: use model dual-horizon (or classical-variable), "

@@ -19,7 +19,7 @@ bool Simulation::multirate_enabled() const {
   // Left to its default, levels are used where they pay (time_levels.hpp, automatic).
   // The state-based family takes one global step: a pair's force depends on the dilatations of
   // both ends, sums over whole horizons that mix levels (docs/theory.md §20.3).
-  return setup_.multirate.value_or(true) && setup_.model != ForceModel::ClassicalVariable &&
+  return setup_.multirate.value_or(true) && conserves_momentum(setup_.model) &&
          setup_.family == ModelFamily::Bond && !setup_.statics && setup_.layers.empty();
 }
 

@@ -18,6 +18,13 @@ class TimeLevelError : public InputError {
   using InputError::InputError;
 };
 
+/// The multi-horizon model cannot be set up on these particles (no refinement zone, an α
+/// undefined): an InputError the scene reader places at the `model` key.
+class MultiHorizonError : public InputError {
+ public:
+  using InputError::InputError;
+};
+
 /// The run became unstable (NaN, energy blow-up): exit code 3, last good output kept.
 class InstabilityError : public std::runtime_error {
  public:

@@ -15,6 +15,8 @@ std::string_view to_string(ForceModel m) {
       return "dual-horizon";
     case ForceModel::ConstantHorizon:
       return "constant-horizon";
+    case ForceModel::MultiHorizon:
+      return "multi-horizon";
     default:
       return "classical-variable";
   }

@@ -8,7 +8,18 @@ enum class ForceModel {
   DualHorizon,        ///< DH-PD: own bonds with C(δ_i) plus dual reactions (IJNME 2016 eq. 27)
   ConstantHorizon,    ///< classical BB-PD, one δ everywhere, micromodulus 2C(δ)
   ClassicalVariable,  ///< classical BB-PD with each particle's own δ_i and no dual: ghost forces
+  /// Multi-horizon PD (CMES 2019 §2; docs/theory.md §24): classical BB-PD whose finer particles
+  /// also integrate over the coarser particles that include them (interaction horizons), the
+  /// pair integrand scaled by α from eq. 7; 1D.
+  MultiHorizon,
 };
+
+/// Whether every pair's forces are equal and opposite (momentum exact, a stiffness symmetric in
+/// the mass inner product): dual and constant horizons; not the classical variable-horizon and
+/// multi-horizon models.
+inline bool conserves_momentum(ForceModel m) {
+  return m == ForceModel::DualHorizon || m == ForceModel::ConstantHorizon;
+}
 /// The force state of a bond (docs/theory.md §20, §21): bond-based (a pair force from the bond's
 /// own stretch), ordinary state-based (also the owner's dilatation; any Poisson's ratio) or
 /// correspondence (the owner's deformation gradient and Hooke's stress).

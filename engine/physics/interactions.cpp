@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "engine/base/parallel.hpp"
+#include "engine/physics/multi_horizon.hpp"
 
 namespace dhpd {
 
@@ -27,6 +28,10 @@ double dual_bond_stiffness(const BondRows& b, const BondConstants& c, std::size_
 }
 
 float entry_stiffness(const BondRows& b, const BondConstants& c, std::size_t i, std::int64_t k) {
+  if (c.model == ForceModel::MultiHorizon)
+    return static_cast<float>(
+        multi_horizon_stiffness(b, c.particles, c.rule, c.micromodulus, c.interaction_scale, i, k) /
+        b.stiffness_scale);
   const auto f = b.flags[k];
   double K = 0.0;
   if (f & kOwnIntact)

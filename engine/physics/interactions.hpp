@@ -27,6 +27,8 @@ struct BondConstants {
   const std::vector<double>& micromodulus;  ///< C(δ_i) of particle i's material
   /// s0 of each owner (+∞ without G0); an empty vector: no bond ever breaks.
   const std::vector<double>& critical_stretch;
+  /// Multi-horizon model: α of each particle's interaction horizons (multi_horizon.hpp).
+  const std::vector<double>& interaction_scale;
 
   /// Whether bonds owned by i can break (fracture constants, not no_fail).
   bool can_break(std::size_t i) const {

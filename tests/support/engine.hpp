@@ -10,6 +10,7 @@
 #include "engine/physics/bond_loops.hpp"
 #include "engine/physics/interactions.hpp"
 #include "engine/physics/material_law.hpp"
+#include "engine/physics/multi_horizon.hpp"
 #include "engine/simulation.hpp"
 #include "geometry/lattice.hpp"
 
@@ -21,9 +22,10 @@ struct Assembly {
   ForceModel model = ForceModel::DualHorizon;
   PartialVolume rule = PartialVolume::None;
   std::vector<double> C;
-  std::vector<double> s0;  ///< empty: rows that never break
+  std::vector<double> s0;     ///< empty: rows that never break
+  std::vector<double> alpha;  ///< multi-horizon α (empty for the other models)
 
-  BondConstants constants(const ParticleStore& p) const { return {model, rule, p, C, s0}; }
+  BondConstants constants(const ParticleStore& p) const { return {model, rule, p, C, s0, alpha}; }
   /// Derives every entry's stiffness and every row's break threshold again (after editing C, s0,
   /// the flags or the factors).
   void refresh(const ParticleStore& p, bool choose_scale = false) {
@@ -39,6 +41,7 @@ inline Assembly assemble(const ParticleStore& p, ForceModel model, PartialVolume
   a.bonds = build_bond_rows(p, pv, {});
   a.C.resize(p.size());
   for (std::size_t i = 0; i < p.size(); ++i) a.C[i] = micromodulus(m, s, p.horizon[i]);
+  if (model == ForceModel::MultiHorizon) a.alpha = interaction_scales(a.bonds, p, a.C);
   a.refresh(p, true);
   return a;
 }

@@ -259,7 +259,7 @@ const std::vector<BadScene> kBadScenes = {
      "bad.yaml:2: dimension: dimension must be 1, 2 or 3, got 4 (allowed: 1, 2, 3)"},
     {"UnknownModelWord", plus("model: dual-horizons"),
      "bad.yaml:8: model: unknown model 'dual-horizons', did you mean 'dual-horizon'? (allowed: "
-     "dual-horizon, constant-horizon, classical-variable)"},
+     "dual-horizon, constant-horizon, classical-variable, multi-horizon)"},
     {"PartialVolumeUnknownWord", plus("partial_volume: exakt"),
      "bad.yaml:8: partial_volume: unknown partial_volume 'exakt', did you mean 'exact'? (allowed: "
      "none, linear, exact)"},

@@ -268,6 +268,10 @@ std::unique_ptr<Simulation> build_simulation(const Scene& s) {
   } catch (const TimeLevelError& e) {
     fail({s.time.where.file, s.time.where.line, "time.max_levels"}, e.what(),
          fmt::format("1 <= max_levels <= {}", kMaxTimeLevels));
+  } catch (const MultiHorizonError& e) {
+    fail(s.model_where, e.what(),
+         "multi-horizon with body parts of different spacing whose coarser particles include "
+         "the finer ones near them, or model dual-horizon");
   }
   check_points_inside(s, sim->particles());
   check_lonely(s, *sim, part_of);

@@ -182,6 +182,7 @@ struct Scene {
   /// `solver: static` (docs/theory.md §22): load steps are time.steps; absent: dynamics.
   std::optional<StaticSolver> statics;
   Location solver_where;  ///< of the `solver` key
+  Location model_where;   ///< of the `model` key (empty without one)
 };
 
 /// A `--set key.path=value` override; value is parsed as YAML (so `false`, `5e-4`, `[0, 1]` work).

@@ -1,6 +1,8 @@
 // Reading `model` (docs/scenes.md, `model`; docs/theory.md §4–5, §20): one word (the bond-based
 // family with that horizon rule) or {family, horizon, influence, surface_correction}, and what the
 // state-based family refuses.
+#include <fmt/format.h>
+
 #include <string>
 #include <vector>
 
@@ -11,9 +13,23 @@ namespace {
 
 /// `horizon` of `model` (or `model` itself as one word): how horizons of different sizes meet.
 ForceModel read_horizon_model(const Cursor& c) {
-  return named_choice(c,
-                      std::vector<ForceModel>{ForceModel::DualHorizon, ForceModel::ConstantHorizon,
-                                              ForceModel::ClassicalVariable});
+  return named_choice(
+      c, std::vector<ForceModel>{ForceModel::DualHorizon, ForceModel::ConstantHorizon,
+                                 ForceModel::ClassicalVariable, ForceModel::MultiHorizon});
+}
+
+/// Multi-horizon PD is defined here for the bond-based family in 1D (docs/theory.md §24).
+void check_multi_horizon(const Cursor& c, const Scene& s) {
+  if (s.model != ForceModel::MultiHorizon) return;
+  if (s.dimension != 1)
+    c.fail(fmt::format("multi-horizon is defined in 1D only (this scene is {}D): in 2D and 3D "
+                       "eq. 7 of CMES 2019 asks one scalar α per interaction horizon to match a "
+                       "vector integral (docs/theory.md §24)",
+                       s.dimension),
+           "dual-horizon, constant-horizon, classical-variable");
+  if (s.family != ModelFamily::Bond)
+    c.fail("multi-horizon is offered for the bond-based family only",
+           "dual-horizon, constant-horizon (or family: bond)");
 }
 
 }  // namespace
@@ -23,8 +39,10 @@ ForceModel read_horizon_model(const Cursor& c) {
 void read_model(const MapView& top, Scene& s) {
   const auto model = top.get("model");
   if (!model) return;
+  s.model_where = model->where();
   if (!model->node().IsMap()) {
     s.model = read_horizon_model(*model);
+    check_multi_horizon(*model, s);
     return;
   }
   const MapView map(*model, {"family", "horizon", "influence", "surface_correction"});
@@ -39,6 +57,7 @@ void read_model(const MapView& top, Scene& s) {
           "the correspondence family is offered with dual (or one constant) horizons only",
           "dual-horizon, constant-horizon");
   }
+  if (const auto horizon = map.get("horizon")) check_multi_horizon(*horizon, s);
   if (const auto surface = map.get("surface_correction")) {
     if (s.family != ModelFamily::OrdinaryState)
       surface->fail("surface_correction applies to the ordinary state-based family only",

@@ -54,6 +54,11 @@ void check_refinable(const Cursor& c, const Scene& s) {
         "refinement needs per-particle horizons; model constant-horizon uses one horizon for "
         "the whole body",
         "model dual-horizon or classical-variable");
+  if (s.model == ForceModel::MultiHorizon)
+    c.fail(
+        "refinement is not offered with model multi-horizon: its α are fixed once at the start "
+        "(CMES 2019 §2.2)",
+        "model dual-horizon or classical-variable");
   if (s.family != ModelFamily::Bond)
     c.fail(
         "refinement is not available with the state-based families yet: their level "

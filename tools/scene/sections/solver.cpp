@@ -97,10 +97,11 @@ void check_static_solver(const MapView& top, const Scene& s) {
              "leave dt out (or solver: dynamic)");
   if (const auto multirate = time.get("multirate"); multirate && *s.time.multirate)
     multirate->fail("time levels are a dynamic scheme", "false (or solver: dynamic)");
-  if (s.model == ForceModel::ClassicalVariable)
+  if (!conserves_momentum(s.model))
     fail(s.solver_where,
-         "the classical variable-horizon model's ghost forces make its stiffness unsymmetric: "
-         "the static solver's step estimate needs a symmetric one",
+         fmt::format("the {} model's pair forces are not equal and opposite, so its stiffness "
+                     "is unsymmetric: the static solver's step estimate needs a symmetric one",
+                     to_string(s.model)),
          "dual-horizon or constant-horizon models (or solver: dynamic)");
   refuse_velocity_conditions(top, s);
 }
