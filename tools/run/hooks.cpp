@@ -147,4 +147,13 @@ void log_end(RunLog& log, const io::Summary& sum) {
   if (sum.cracks) log_cracks(log, *sum.cracks);
 }
 
+EditTask RefinementHook::between_relaxations(Simulation& sim, std::function<bool()> stop) {
+  return [this, &sim, stop = std::move(stop)] {
+    if (stop()) return false;
+    const auto ev = refiner.check(sim);
+    if (ev.parents > 0) log(sim, ev);
+    return ev.parents > 0;
+  };
+}
+
 }  // namespace dhpd::run

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <exception>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -88,6 +89,10 @@ struct RefinementHook {
 
   /// One row of refinement.csv (and a log line) for an event.
   void log(const Simulation& sim, const refine::RefinementEvent& ev);
+  /// What a static load step calls after each relaxation (StepExtras::between_relaxations;
+  /// docs/theory.md §22, refinement between relaxations): a check of the triggers, logged, and
+  /// whether it edited; nothing once `stop` says the run is stopping.
+  EditTask between_relaxations(Simulation& sim, std::function<bool()> stop);
 };
 
 /// Crack measurements of a scene with `measure`: cracks.csv and the summary's "cracks".

@@ -166,15 +166,12 @@ void time_loop(RunContext& ctx, io::Progress& progress) {
       if (hook) hook->refiner.set_cancel_check({});
     }
   } forget{hook};
-  // A static load step checks the triggers after each of its relaxations, before bonds break
-  // (docs/theory.md §22, refinement between relaxations): a running crack is refined as it grows.
-  const EditTask refine_in_step = hook && sim.is_static() ? EditTask([&] {
-    if (signals.caught()) return false;
-    const auto ev = hook->refiner.check(sim);
-    if (ev.parents > 0) hook->log(sim, ev);
-    return ev.parents > 0;
-  })
-                                                          : EditTask();
+  // A static load step checks the triggers after each of its relaxations, before bonds break:
+  // a running crack is refined as it grows.
+  const EditTask refine_in_step =
+      hook && sim.is_static()
+          ? hook->between_relaxations(sim, [&signals] { return signals.caught() != 0; })
+          : EditTask();
   for (std::int64_t k = first; !schedule.finished(k - 1, sim.time()); ++k) {
     // A step that a history row or frame follows computes its strain energy in its force pass.
     const bool records =
