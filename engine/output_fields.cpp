@@ -82,6 +82,17 @@ const Derived kDerived[] = {
          for (const auto i : layer.particle) flag[static_cast<std::size_t>(i)] = 1;
        return FieldValues{1, std::move(flag)};
      }},
+    {{"interaction_scale", "1",
+      "multi-horizon alpha of the particle's interaction horizon, the larger of its two sides "
+      "(0 outside the refinement zone and under the other models)",
+      false},
+     [](Simulation& sim) {
+       const auto& a = sim.interaction_scale();
+       std::vector<double> out(sim.particles().size(), 0.0);
+       for (std::size_t i = 0; 2 * i + 1 < a.size() && i < out.size(); ++i)
+         out[i] = std::max(a[2 * i], a[2 * i + 1]);
+       return FieldValues{1, std::move(out)};
+     }},
     {{"time_level", "-",
       "time level: the particle steps at dt0 / 2^level (written by runs with time.multirate)",
       false},

@@ -251,6 +251,9 @@ class Simulation {
   BondConstants bond_constants() const;
   const std::vector<double>& micromodulus() const { return C_; }
   const std::vector<double>& critical_stretch() const { return s0_; }
+  /// Multi-horizon α of each particle's interaction horizons, at 2i (toward −x) and 2i + 1
+  /// (toward +x); empty under the other models (docs/theory.md §24).
+  const std::vector<double>& interaction_scale() const { return interaction_scale_; }
   /// The setup the run was built from, without its points (released once the particles hold
   /// them; fingerprint() is their hash).
   const SimulationSetup& setup() const { return setup_; }

@@ -119,6 +119,12 @@ class ShippedStudies(unittest.TestCase):
             grids = [v["grid"]["horizon.factor"] for v in loaded["variants"]]
             self.assertEqual(grids, [[1, 2, 3, 4, 5]] * 4)
 
+    def test_the_multi_horizon_bar_study_is_valid(self):
+        loaded = study_tool.load_study(
+            os.path.join(support.SOURCE, "cases", "studies", "multi_horizon_bar.yaml"))
+        models = [v.get("set", {}).get("model", "dual-horizon") for v in loaded["variants"]]
+        self.assertEqual(models[:3], ["dual-horizon", "multi-horizon", "classical-variable"])
+
 
 class MalformedReference(unittest.TestCase):
     def test_is_refused_with_exit_two(self):
