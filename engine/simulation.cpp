@@ -64,8 +64,8 @@ Simulation::Simulation(SimulationSetup setup)
   last_power_ = boundary_power();
   const auto e = energies();
   budget_.tolerance = setup_.energy_tolerance;
-  // Classical BB-PD with varying horizons is not conservative (ghost forces do work): only
-  // non-finite states and blow-ups far beyond the balance stop it.
+  // Classical and multi-horizon BB-PD with varying horizons are not conservative (unbalanced pair
+  // forces do work): only non-finite states and blow-ups far beyond the balance stop them.
   conservative_ = conserves_momentum(setup_.model);
   blowup_factor_ = conservative_ ? 2.0 : 100.0;
   budget_.initial = e.kinetic - e.verlet_correction + e.strain;
@@ -76,8 +76,8 @@ Simulation::Simulation(SimulationSetup setup)
 
 double Simulation::estimate_critical_dt() {
   const double bound = smallest(particle_dt_);
-  // Lanczos needs M⁻¹K symmetric in the mass inner product: the classical variable-horizon model's
-  // ghost forces make it not, so that model keeps the bound (docs/theory.md §9).
+  // Lanczos needs M⁻¹K symmetric in the mass inner product: the classical variable-horizon and
+  // multi-horizon models' unbalanced pairs make it not, so they keep the bound (docs/theory.md §9).
   if (!std::isfinite(bound) ||
       (!state_based() && (setup_.stable_step == StableStepEstimate::ParticleBound ||
                           !conserves_momentum(setup_.model))))

@@ -131,6 +131,13 @@ void Simulation::renumber() {
   for (std::size_t k = 0; k < n; ++k) new_index[static_cast<std::size_t>(order[k])] = k;
   p_ = gather(p_, order);
   bonds_ = renumbered_rows(bonds_, order, new_index);
+  if (!interaction_scale_.empty()) {  // two per particle (multi-horizon; never edited today)
+    std::vector<double> scale(interaction_scale_.size());
+    for (std::size_t k = 0; k < n; ++k)
+      for (std::size_t side = 0; side < 2; ++side)
+        scale[2 * k + side] = interaction_scale_[2 * static_cast<std::size_t>(order[k]) + side];
+    interaction_scale_ = std::move(scale);
+  }
   update_bond_constants();
   particle_time_steps(bonds_, p_, particle_dt_);
   renumber_loads(loads_, new_index);
