@@ -16,6 +16,7 @@ void Simulation::build_state_model() {
       bonds_, p_,
       OrdinaryStateInputs{setup_.section, setup_.model, setup_.partial_volume, setup_.influence,
                           &setup_.materials, setup_.surface_correction});
+  if (setup_.model == ForceModel::MultiHorizon) interaction_scale_ = state_->interaction_scale();
 }
 
 double Simulation::state_lanczos_dt(const ParticleStore& masses) const {
@@ -26,10 +27,11 @@ double Simulation::state_lanczos_dt(const ParticleStore& masses) const {
     };
     return lanczos_stable_step(apply, masses, 80, 1e-4, &particle_dt_).dt;
   }
-  // The classical variable-horizon model's operator is not symmetric (ghost forces): its step is
-  // that of the dual-horizon model on the same particles, which it equals where horizons agree.
+  // The classical variable-horizon and multi-horizon operators are not symmetric (unbalanced
+  // pairs): their step is that of the dual-horizon model on the same particles, which they equal
+  // where horizons agree.
   std::optional<OrdinaryState> dual;
-  if (setup_.model == ForceModel::ClassicalVariable)
+  if (!conserves_momentum(setup_.model))
     dual.emplace(
         bonds_, p_,
         OrdinaryStateInputs{setup_.section, ForceModel::DualHorizon, setup_.partial_volume,

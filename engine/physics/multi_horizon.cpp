@@ -13,22 +13,14 @@ namespace dhpd {
 
 namespace {
 
-/// The length of j's cell inside i's natural horizon on the side j lies on.
-double overlap_with_horizon(const ParticleStore& p, std::size_t i, std::size_t j) {
-  const double x = p.reference_position[0][i], delta = p.horizon[i];
-  const double lo = side_of(p, i, j) ? x : x - delta, hi = side_of(p, i, j) ? x + delta : x;
-  const double a = p.reference_position[0][j] - 0.5 * p.spacing[j];
-  const double b = p.reference_position[0][j] + 0.5 * p.spacing[j];
-  return std::max(0.0, std::min(hi, b) - std::max(lo, a));
-}
-
 double x_of(const ParticleStore& p, std::size_t i) {
   return p.reference_position[0][i];
 }
 
-/// Per particle and side, the length of its natural horizon that coarser cells occupy (every
-/// coarser particle, bonded or not: sorted by x, each horizon scanned with the largest half-cell).
-std::vector<double> occupied_by_coarser(const ParticleStore& p) {
+}  // namespace
+
+void for_each_coarser_overlap(const ParticleStore& p, const CoarserOverlap& visit) {
+  // Sorted by x, each horizon scanned out to its radius plus the largest half-cell.
   const auto& x = p.reference_position[0];
   std::vector<std::size_t> order(p.size());
   for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
@@ -36,17 +28,29 @@ std::vector<double> occupied_by_coarser(const ParticleStore& p) {
   std::vector<double> sorted(order.size());
   for (std::size_t k = 0; k < order.size(); ++k) sorted[k] = x[order[k]];
   const double half = 0.5 * *std::max_element(p.spacing.begin(), p.spacing.end());
-  std::vector<double> occupied(2 * p.size(), 0.0);
   for (std::size_t i = 0; i < p.size(); ++i) {
     const double reach = p.horizon[i] + half;
     auto k = static_cast<std::size_t>(std::lower_bound(sorted.begin(), sorted.end(), x[i] - reach) -
                                       sorted.begin());
     for (; k < sorted.size() && sorted[k] <= x[i] + reach; ++k) {
       const auto j = order[k];
-      if (j != i && coarser(p, j, i))
-        occupied[2 * i + side_of(p, i, j)] += overlap_with_horizon(p, i, j);
+      if (j == i || !coarser(p, j, i)) continue;
+      // j's cell as distances from x_i, cut to i's horizon on j's side.
+      const double near = std::abs(x[j] - x[i]) - 0.5 * p.spacing[j];
+      const double r0 = std::max(0.0, near), r1 = std::min(p.horizon[i], near + p.spacing[j]);
+      if (r1 > r0) visit(i, side_of(p, i, j), r0, r1);
     }
   }
+}
+
+namespace {
+
+/// Per particle and side, the length of its natural horizon that coarser cells occupy.
+std::vector<double> occupied_by_coarser(const ParticleStore& p) {
+  std::vector<double> occupied(2 * p.size(), 0.0);
+  for_each_coarser_overlap(p, [&occupied](std::size_t i, std::size_t side, double r0, double r1) {
+    occupied[2 * i + side] += r1 - r0;
+  });
   return occupied;
 }
 

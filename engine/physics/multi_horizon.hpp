@@ -3,6 +3,7 @@
 #pragma once
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "engine/discretization/bonds.hpp"
@@ -20,6 +21,11 @@ inline bool coarser(const ParticleStore& p, std::size_t j, std::size_t i) {
 inline std::size_t side_of(const ParticleStore& p, std::size_t i, std::size_t j) {
   return p.reference_position[0][j] > p.reference_position[0][i] ? 1 : 0;
 }
+
+/// Calls visit(i, side, r0, r1) for each particle j coarser than i whose cell reaches into i's
+/// natural horizon: the part of the cell inside it spans distances r0 < r1 from x_i (1D).
+using CoarserOverlap = std::function<void(std::size_t, std::size_t, double, double)>;
+void for_each_coarser_overlap(const ParticleStore& p, const CoarserOverlap& visit);
 
 /// α of particle i's interaction horizon on each side, at 2i + side: the coarser particles that
 /// include i (their own bond on i) form it, and eq. 7 for a uniform stretch fixes α so that their

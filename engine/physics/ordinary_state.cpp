@@ -7,14 +7,10 @@
 
 #include "engine/base/parallel.hpp"
 #include "engine/physics/bond_loops.hpp"
+#include "engine/physics/multi_horizon.hpp"
 
 namespace dhpd {
 namespace {
-
-/// ω of the bond from `owner` at reference length |ξ|.
-double influence(Influence w, double owner_horizon, double length) {
-  return w == Influence::Constant ? 1.0 : owner_horizon / length;
-}
 
 /// Extension e = |y| − |ξ| and direction (y_j − y_i)/|y_j − y_i| in the current configuration.
 struct Deformed {
@@ -114,7 +110,9 @@ double state_fracture_factor(const Material& m, const Section& s, Influence w) {
 
 OrdinaryState::OrdinaryState(const BondRows& rows, const ParticleStore& p,
                              const OrdinaryStateInputs& in)
-    : n_(in.section.dim), classical_(in.model == ForceModel::ClassicalVariable) {
+    : n_(in.section.dim),
+      classical_(in.model == ForceModel::ClassicalVariable),
+      multi_(in.model == ForceModel::MultiHorizon) {
   const std::size_t count = p.size();
   m_.assign(count, 0.0);
   bulk_.assign(count, 0.0);
@@ -131,18 +129,19 @@ OrdinaryState::OrdinaryState(const BondRows& rows, const ParticleStore& p,
     for (auto k = rows.begin(i); k < rows.end(i); ++k) {
       const auto j = static_cast<std::size_t>(rows.other[k]);
       const double length = rows.length(k);
-      if (rows.has_own(k)) {
-        own_weight_[k] = influence(in.influence, p.horizon[i], length) *
+      // Multi-horizon: a coarser particle is in i's interaction horizon, not its natural one.
+      if (rows.has_own(k) && !(multi_ && coarser(p, j, i))) {
+        own_weight_[k] = influence_of(in.influence, p.horizon[i], length) *
                          bond_weight(p, in.rule, i, j, length) * p.volume[j];
         m += own_weight_[k] * length * length;
         // Classical: −T_j<x_i − x_j> integrated over H_i (i's quadrature), where j's state has
         // that bond (i ∈ H_j); nothing where it has not (a ghost force).
         if (classical_ && rows.has_dual(k))
-          dual_weight_[k] = influence(in.influence, p.horizon[j], length) *
+          dual_weight_[k] = influence_of(in.influence, p.horizon[j], length) *
                             bond_weight(p, in.rule, i, j, length) * p.volume[j];
       }
       if (!classical_ && rows.has_dual(k))
-        dual_weight_[k] = influence(in.influence, p.horizon[j], length) *
+        dual_weight_[k] = influence_of(in.influence, p.horizon[j], length) *
                           bond_weight(p, in.rule, j, i, length) * p.volume[j];
     }
     m_[i] = m;
@@ -157,7 +156,8 @@ OrdinaryState::OrdinaryState(const BondRows& rows, const ParticleStore& p,
   // its own bond and of the other's (SurfaceFactors; without the correction all four are w).
   own_dilatation_ = own_weight_;
   dual_dilatation_ = dual_weight_;
-  if (!in.surface_correction) return;
+  if (multi_) use_multi_horizon(rows, p, in);  // without surface factors (refused with them)
+  if (!in.surface_correction || multi_) return;
   const SurfaceFactors f = surface_factors(rows, p, in, m_, own_weight_);
   for (std::size_t k = 0; k < rows.flags.size(); ++k) {
     own_dilatation_[k] *= f.own_dilatation[k];
@@ -179,6 +179,13 @@ void OrdinaryState::dilatation_pass(const BondRows& rows, const ParticleStore& p
                            extension += own_weight_[k] * length * e;
                            moment += own_weight_[k] * length * length;
                          });
+    if (multi_)  // the interaction horizon's share of θ (docs/theory.md §24)
+      for (auto k = rows.begin(i); k < rows.end(i); ++k)
+        if (interaction_theta_[k] != 0.0 && rows.dual_intact(k)) {
+          const double length = lengths_[rows.length_index[k]];
+          theta += interaction_theta_[k] * length *
+                   kin.template extension<Dim>(i, static_cast<std::size_t>(rows.other[k]), length);
+        }
     if (!(m_[i] > 0.0)) {
       theta_[i] = alpha_[i] = beta_[i] = 0.0;
       return;
@@ -197,8 +204,11 @@ void OrdinaryState::force_pass(const BondRows& rows, const ParticleStore& p, con
     double f[Dim] = {};
     for (auto k = rows.begin(i); k < rows.end(i); ++k) {
       const bool own = rows.own_intact(k);
-      const bool dual = classical_ ? own && rows.dual_intact(k) : rows.dual_intact(k);
-      if (!own && !dual) continue;
+      const bool dual = classical_                ? own && rows.dual_intact(k)
+                        : multi_ && dual_gate_[k] ? own
+                                                  : rows.dual_intact(k);
+      const bool interaction = multi_ && interaction_weight_[k] != 0.0 && rows.dual_intact(k);
+      if (!own && !dual && !interaction) continue;
       const auto j = static_cast<std::size_t>(rows.other[k]);
       const double length = lengths_[rows.length_index[k]];
       double dir[Dim];
@@ -211,6 +221,9 @@ void OrdinaryState::force_pass(const BondRows& rows, const ParticleStore& p, con
       if (dual)
         t += length * (dual_dilatation_[k] * alpha_[j] - dual_weight_[k] * beta_[j]) +
              dual_weight_[k] * deviatoric_coefficient_[j] * e;
+      if (interaction)  // i's state over its interaction horizon, α-scaled (§24)
+        t += interaction_weight_[k] *
+             (length * (alpha_[i] - beta_[i]) + deviatoric_coefficient_[i] * e);
       for (int a = 0; a < Dim; ++a) f[a] += t * dir[a];
     }
     for (int a = 0; a < Dim; ++a) out[a][i] = per_density ? -f[a] / p.density[i] : f[a];

@@ -13,6 +13,11 @@
 
 namespace dhpd {
 
+/// ω of the bond from an owner of horizon `owner_horizon` at reference length |ξ| (§20.1).
+inline double influence_of(Influence w, double owner_horizon, double length) {
+  return w == Influence::Constant ? 1.0 : owner_horizon / length;
+}
+
 /// The state-based family's fracture factor Φ (docs/theory.md §20.4), s0 = sqrt(G0/(Φ δ)): G0 is
 /// the energy the bonds crossing a crack plane hold when every bond is at s0 (the argument of IJNME
 /// 2016 eq. 36), each bond's share of W_i being ½ t_ij e_ij V_j. At an isotropic stretch s that is
@@ -78,6 +83,9 @@ class OrdinaryState {
   const std::vector<double>& dilatation() const { return theta_; }
   /// m_i of every particle.
   const std::vector<double>& weighted_volume() const { return m_; }
+  /// Multi-horizon α of each particle's interaction horizons (2i: toward −x, 2i + 1: toward +x;
+  /// docs/theory.md §24); empty under the other models.
+  const std::vector<double>& interaction_scale() const { return interaction_scale_; }
   std::size_t bytes() const;
 
  private:
@@ -87,10 +95,22 @@ class OrdinaryState {
   void force_pass(const BondRows& rows, const ParticleStore& p, const Kinematics& kin,
                   double* const out[3], bool per_density);
 
+  /// Multi-horizon (multi_horizon_state.cpp): α per interaction horizon from eq. 7 with this
+  /// model's integrand, the finer particle's interaction states in interaction_weight_ and the
+  /// α-scaled states of both ends in the dual weights; dual_gate_ marks the entries whose dual
+  /// term the row's own bond carries (the other end's interaction state).
+  void use_multi_horizon(const BondRows& rows, const ParticleStore& p,
+                         const OrdinaryStateInputs& in);
+
   int n_ = 3;
-  bool classical_ = false;    ///< classical variable horizon: no dual bonds, ghost forces
-  std::vector<double> m_;     ///< weighted volume
-  std::vector<double> bulk_;  ///< κ_i
+  bool classical_ = false;  ///< classical variable horizon: no dual bonds, ghost forces
+  bool multi_ = false;      ///< multi-horizon (docs/theory.md §24)
+  std::vector<double> interaction_scale_, interaction_weight_;
+  /// Per row entry: α_θ ω_i V_j of i's interaction bond in its dilatation (multi-horizon).
+  std::vector<double> interaction_theta_;
+  std::vector<std::uint8_t> dual_gate_;
+  std::vector<double> m_;                       ///< weighted volume
+  std::vector<double> bulk_;                    ///< κ_i
   std::vector<double> deviatoric_coefficient_;  ///< Q_i = n (n+2) G_i / m_i
   std::vector<double> theta_;
   /// Per particle of the last pass (20.7): α = (n/m)(κθ − Q S/n), β = Q θ/n.

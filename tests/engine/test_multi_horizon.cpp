@@ -7,6 +7,7 @@
 #include <random>
 
 #include "engine/base/errors.hpp"
+#include "engine/physics/ordinary_state.hpp"
 #include "tests/support/engine.hpp"
 
 namespace dhpd {
@@ -120,6 +121,61 @@ TEST(MultiHorizon, DoesNotConserveLinearMomentumWhereDualHorizonsDo) {
     EXPECT_GT(balance[1], 1e-6);
     EXPECT_GT(balance[2], 1e-4);
   }
+}
+
+/// The ordinary state-based forces of `p` (1D, E = 200 GPa, constant ω, linear partial volumes,
+/// no surface factors) under `model`; returns α of the interaction horizons.
+std::vector<double> state_forces(ParticleStore& p, ForceModel model) {
+  const auto rows = build_bond_rows(p, PartialVolume::Linear, {});
+  const std::vector<Material> materials{{200e9, 8000.0, 0.0, std::nan("")}};
+  OrdinaryState state(
+      rows, p,
+      {test::section_of(1), model, PartialVolume::Linear, Influence::Constant, &materials, false});
+  state.forces(rows, p);
+  return state.interaction_scale();
+}
+
+// The state-based form (§24): m_i and θ_i over the horizon a refined body would give i (its
+// lattice continued into the coarser cells), α from eq. 7 with the linear solid's integrand: a
+// uniform stretch leaves no force on the refined particles, 0.35 E ε / Δx_c on coarse ones.
+TEST(MultiHorizon, StateBasedUniformStretchLeavesNoForceOnRefinedParticles) {
+  auto p = two_zone_bar(0.0, 1);
+  const double eps = 1e-3;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    p.displacement[0][i] = eps * p.reference_position[0][i];
+    p.position[0][i] = p.reference_position[0][i] + p.displacement[0][i];
+  }
+  const auto alpha = state_forces(p, ForceModel::MultiHorizon);
+  double fine = 0.0, coarse = 0.0;
+  for (std::size_t i = 20; i < 240; ++i) fine = std::max(fine, std::abs(p.force_density[0][i]));
+  for (std::size_t i = 240; i < 260; ++i)
+    coarse = std::max(coarse, std::abs(p.force_density[0][i]));
+  const double scale = 200e9 * eps / kCoarse;
+  std::printf(
+      "state-based multi-horizon, uniform stretch: fine %.3g, coarse %.3g E ε/Δx_c; α at "
+      "the interface %.4f\n",
+      fine / scale, coarse / scale, alpha[2 * 239 + 1]);
+  EXPECT_LT(fine, 1e-8 * scale);
+  EXPECT_GT(coarse, 0.1 * scale);
+  EXPECT_GT(alpha[2 * 239 + 1], 0.0);
+  EXPECT_EQ(alpha[2 * 230 + 1], 0.0);
+}
+
+TEST(MultiHorizon, StateBasedDoesNotConserveLinearMomentum) {
+  auto p = two_zone_bar(0.3, 4);
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> unit(-0.5, 0.5);
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    p.displacement[0][i] = 1e-6 * unit(rng);
+    p.position[0][i] = p.reference_position[0][i] + p.displacement[0][i];
+  }
+  auto q = p;
+  state_forces(p, ForceModel::MultiHorizon);
+  state_forces(q, ForceModel::DualHorizon);
+  const double multi = test::momentum_balance(p).linear, dual = test::momentum_balance(q).linear;
+  std::printf("state-based |ΣF|/Σ|F|: multi-horizon %.3g, dual-horizon %.3g\n", multi, dual);
+  EXPECT_LT(dual, 1e-12);
+  EXPECT_GT(multi, 1e-6);
 }
 
 // Coarser material in a particle's horizon that does not include it: eq. 7 has no interaction

@@ -44,8 +44,10 @@ TEST(MultiHorizonScene, TheBarBuildsWithInteractionHorizonsAtItsInterface) {
 TEST(MultiHorizonScene, WhatTheModelCannotMeanIsRefusedAtItsKey) {
   refused(bar("multi-horizon", "", "0.0001"),
           "bar.yaml:11: model: model multi-horizon needs a refinement zone");
-  refused(bar("{family: ordinary-state, horizon: multi-horizon}"),
-          "model.horizon: multi-horizon is offered for the bond-based family only");
+  refused(bar("{family: correspondence, horizon: multi-horizon}"),
+          "model.horizon: multi-horizon is offered for the bond-based and ordinary state-based");
+  refused(bar("{family: ordinary-state, horizon: multi-horizon, surface_correction: true}"),
+          "model.surface_correction: multi-horizon's α already carries");
   refused(bar("multi-horizon", "effects: {refinement: true}\n"),
           "effects.refinement: refinement is not offered with model multi-horizon");
   refused(bar("multi-horizon", "solver: static\n"),

@@ -27,9 +27,9 @@ void check_multi_horizon(const Cursor& c, const Scene& s) {
                        "vector integral (docs/theory.md §24)",
                        s.dimension),
            "dual-horizon, constant-horizon, classical-variable");
-  if (s.family != ModelFamily::Bond)
-    c.fail("multi-horizon is offered for the bond-based family only",
-           "dual-horizon, constant-horizon (or family: bond)");
+  if (s.family == ModelFamily::Correspondence)
+    c.fail("multi-horizon is offered for the bond-based and ordinary state-based families",
+           "dual-horizon, constant-horizon (or family: bond or ordinary-state)");
 }
 
 }  // namespace
@@ -63,7 +63,13 @@ void read_model(const MapView& top, Scene& s) {
       surface->fail("surface_correction applies to the ordinary state-based family only",
                     "family: ordinary-state");
     s.surface_correction = surface->boolean();
+    if (s.surface_correction && s.model == ForceModel::MultiHorizon)
+      surface->fail(
+          "multi-horizon's α already carries the material a finer particle's horizon misses "
+          "at a zone interface; surface factors would count it again (docs/theory.md §24)",
+          "false (the default with multi-horizon)");
   }
+  if (s.model == ForceModel::MultiHorizon) s.surface_correction = false;
   if (const auto influence = map.get("influence")) {
     if (s.family == ModelFamily::Bond)
       influence->fail("influence applies to the state-based family only", "family: ordinary-state");
