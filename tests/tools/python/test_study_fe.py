@@ -119,11 +119,16 @@ class ShippedStudies(unittest.TestCase):
             grids = [v["grid"]["horizon.factor"] for v in loaded["variants"]]
             self.assertEqual(grids, [[1, 2, 3, 4, 5]] * 4)
 
-    def test_the_multi_horizon_bar_study_is_valid(self):
-        loaded = study_tool.load_study(
-            os.path.join(support.SOURCE, "cases", "studies", "multi_horizon_bar.yaml"))
+    def test_the_multi_horizon_bar_studies_are_valid(self):
+        folder = os.path.join(support.SOURCE, "cases", "studies")
+        loaded = study_tool.load_study(os.path.join(folder, "multi_horizon_bar.yaml"))
         models = [v.get("set", {}).get("model", "dual-horizon") for v in loaded["variants"]]
         self.assertEqual(models[:3], ["dual-horizon", "multi-horizon", "classical-variable"])
+        loaded = study_tool.load_study(os.path.join(folder, "multi_horizon_bar_state.yaml"))
+        horizons = [v["set"]["model"]["horizon"] for v in loaded["variants"]]
+        self.assertEqual(horizons[:3], ["dual-horizon", "multi-horizon", "classical-variable"])
+        self.assertTrue(all(v["set"]["model"]["family"] == "ordinary-state"
+                            for v in loaded["variants"]))
 
 
 class MalformedReference(unittest.TestCase):
