@@ -252,8 +252,12 @@ class Simulation {
   const std::vector<double>& micromodulus() const { return C_; }
   const std::vector<double>& critical_stretch() const { return s0_; }
   /// Multi-horizon α of each particle's interaction horizons, at 2i (toward −x) and 2i + 1
-  /// (toward +x); empty under the other models (docs/theory.md §24).
-  const std::vector<double>& interaction_scale() const { return interaction_scale_; }
+  /// (toward +x): the ordinary state-based model's own when it runs, else the bond-based one;
+  /// empty under the other models (docs/theory.md §24).
+  const std::vector<double>& interaction_scale() const {
+    return state_ && setup_.model == ForceModel::MultiHorizon ? state_->interaction_scale()
+                                                              : interaction_scale_;
+  }
   /// The setup the run was built from, without its points (released once the particles hold
   /// them; fingerprint() is their hash).
   const SimulationSetup& setup() const { return setup_; }
@@ -389,7 +393,8 @@ class Simulation {
   BondRows bonds_;
   ResolvedLoads loads_;
   std::vector<double> C_, s0_;
-  std::vector<double> interaction_scale_;  ///< multi-horizon α, two per particle (1D)
+  std::vector<double>
+      interaction_scale_;  ///< bond-based multi-horizon α (the rows' K), 2 a particle
   /// The state-based fracture factor Φ of each material (s0 = sqrt(G0/(Φ δ)), §20.4).
   std::vector<double> state_phi_;
   /// The ordinary state-based model's constants and dilatation (family OrdinaryState only).

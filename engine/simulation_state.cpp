@@ -16,7 +16,6 @@ void Simulation::build_state_model() {
       bonds_, p_,
       OrdinaryStateInputs{setup_.section, setup_.model, setup_.partial_volume, setup_.influence,
                           &setup_.materials, setup_.surface_correction});
-  if (setup_.model == ForceModel::MultiHorizon) interaction_scale_ = state_->interaction_scale();
 }
 
 double Simulation::state_lanczos_dt(const ParticleStore& masses) const {

@@ -197,17 +197,19 @@ void OrdinaryState::dilatation_pass(const BondRows& rows, const ParticleStore& p
   });
 }
 
-template <int Dim, class Kinematics>
+template <int Dim, bool Multi, class Kinematics>
 void OrdinaryState::force_pass(const BondRows& rows, const ParticleStore& p, const Kinematics& kin,
                                double* const out[3], bool per_density) {
   for_each_particle(p.size(), [&](std::size_t i) {
     double f[Dim] = {};
     for (auto k = rows.begin(i); k < rows.end(i); ++k) {
       const bool own = rows.own_intact(k);
-      const bool dual = classical_                ? own && rows.dual_intact(k)
-                        : multi_ && dual_gate_[k] ? own
-                                                  : rows.dual_intact(k);
-      const bool interaction = multi_ && interaction_weight_[k] != 0.0 && rows.dual_intact(k);
+      bool dual = classical_ ? own && rows.dual_intact(k) : rows.dual_intact(k);
+      bool interaction = false;
+      if constexpr (Multi) {  // the gates of docs/theory.md §24
+        if (dual_gate_[k]) dual = own;
+        interaction = interaction_weight_[k] != 0.0 && rows.dual_intact(k);
+      }
       if (!own && !dual && !interaction) continue;
       const auto j = static_cast<std::size_t>(rows.other[k]);
       const double length = lengths_[rows.length_index[k]];
@@ -221,9 +223,10 @@ void OrdinaryState::force_pass(const BondRows& rows, const ParticleStore& p, con
       if (dual)
         t += length * (dual_dilatation_[k] * alpha_[j] - dual_weight_[k] * beta_[j]) +
              dual_weight_[k] * deviatoric_coefficient_[j] * e;
-      if (interaction)  // i's state over its interaction horizon, α-scaled (§24)
-        t += interaction_weight_[k] *
-             (length * (alpha_[i] - beta_[i]) + deviatoric_coefficient_[i] * e);
+      if constexpr (Multi)
+        if (interaction)  // i's state over its interaction horizon, α-scaled (§24)
+          t += interaction_weight_[k] *
+               (length * (alpha_[i] - beta_[i]) + deviatoric_coefficient_[i] * e);
       for (int a = 0; a < Dim; ++a) f[a] += t * dir[a];
     }
     for (int a = 0; a < Dim; ++a) out[a][i] = per_density ? -f[a] / p.density[i] : f[a];
@@ -237,7 +240,10 @@ void OrdinaryState::forces(const BondRows& rows, ParticleStore& p) {
     dilatation_pass<Dim>(rows, p, kin);
     double* const out[3] = {p.force_density[0].data(), p.force_density[1].data(),
                             p.force_density[2].data()};
-    force_pass<Dim>(rows, p, kin, out, false);
+    if (multi_)  // the kernel is chosen once per pass, not per bond
+      force_pass<Dim, true>(rows, p, kin, out, false);
+    else
+      force_pass<Dim, false>(rows, p, kin, out, false);
     return 0;
   });
 }
@@ -253,7 +259,10 @@ void OrdinaryState::stiffness_times(const BondRows& rows, const ParticleStore& p
     std::vector<double> axes[3];
     for (int a = 0; a < Dim; ++a) axes[a].resize(p.size());
     double* const target[3] = {axes[0].data(), axes[1].data(), axes[2].data()};
-    force_pass<Dim>(rows, p, kin, target, true);
+    if (multi_)
+      force_pass<Dim, true>(rows, p, kin, target, true);
+    else
+      force_pass<Dim, false>(rows, p, kin, target, true);
     out.resize(p.size() * Dim);
     for (std::size_t i = 0; i < p.size(); ++i)
       for (int a = 0; a < Dim; ++a) out[i * Dim + a] = axes[a][i];

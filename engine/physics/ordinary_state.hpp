@@ -91,7 +91,7 @@ class OrdinaryState {
  private:
   template <int Dim, class Kinematics>
   void dilatation_pass(const BondRows& rows, const ParticleStore& p, const Kinematics& kin);
-  template <int Dim, class Kinematics>
+  template <int Dim, bool Multi, class Kinematics>
   void force_pass(const BondRows& rows, const ParticleStore& p, const Kinematics& kin,
                   double* const out[3], bool per_density);
 

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "tests/support/cli.hpp"
+#include "tests/support/statics.hpp"
 #include "tests/support/vtk_read.hpp"
 
 namespace dhpd {
@@ -131,33 +132,12 @@ TEST_F(CliTest, UnstableRunKeepsItsLastGoodStateAsFinalFrameAndCheckpoint) {
   EXPECT_EQ(failing_step(again.err), failed) << again.err;
 }
 
-constexpr const char* kNotched = R"(name: notched
-dimension: 2
-plane: stress
-thickness: 0.001
-materials:
-  glass: {E: 72.0e9, rho: 2440, G0: 3.8}
-body:
-  - {shape: box, min: [0, 0], max: [0.02, 0.02], spacing: 0.001, material: glass}
-cracks:
-  - [[0.0, 0.01], [0.005, 0.01]]
-partial_volume: linear
-boundary_conditions:
-  - {region: {shape: box, min: [0, 0], max: [0.02, 0.002]}, fixed: true}
-  - {region: {shape: box, min: [0, 0.018], max: [0.02, 0.02]}, displacement: {y: 3.0e-6}}
-no_fail:
-  - {shape: box, min: [0, 0], max: [0.02, 0.003]}
-  - {shape: box, min: [0, 0.017], max: [0.02, 0.02]}
-effects: {fracture: true, refinement: true}
-solver: {type: static, tolerance: 1.0e-5, max_break_rounds: 3}
-time: {steps: 10}
-)";
-
 // A static run refined between the relaxations of its load steps, stopped in a load step after
 // several events in it (too many break rounds): its last good state is the load step before,
 // restored from the guard's copy across those events, and its checkpoint fails again the same way.
 TEST_F(CliTest, StaticAdaptiveRunStoppedAfterEventsKeepsTheLoadStepBefore) {
-  write("notched.yaml", kNotched);
+  write("notched.yaml",
+        test::notched_plate(0.001, "{fracture: true, refinement: true}", ", max_break_rounds: 3"));
   const auto o = dhpd({"run", "notched.yaml", "-o", "out", "-q"});
   ASSERT_EQ(o.code, 3) << o.err;
   EXPECT_EQ(o.err.find("could not be restored"), std::string::npos) << o.err;

@@ -20,4 +20,27 @@ inline std::string tension_plate(const std::string& solver, const std::string& m
          solver;
 }
 
+/// A 20 mm notched glass plate (5 mm edge notch at mid-height) pulled quasi-statically by 3 µm in
+/// ten load steps, its held bands two coarse rows wide with edges between the rows of the 1 mm and
+/// 0.5 mm lattices (refined and uniform lattices hold the same material); `spacing`, `effects`
+/// and extra `solver` keys (", key: value") as given.
+inline std::string notched_plate(double spacing, const std::string& effects,
+                                 const std::string& solver_extra = "") {
+  return "name: notched\ndimension: 2\nplane: stress\nthickness: 0.001\nmaterials:\n"
+         "  glass: {E: 72.0e9, rho: 2440, G0: 3.8}\nbody:\n"
+         "  - {shape: box, min: [0, 0], max: [0.02, 0.02], spacing: " +
+         std::to_string(spacing) +
+         ", material: glass}\n"
+         "cracks:\n  - [[0.0, 0.01], [0.005, 0.01]]\npartial_volume: linear\n"
+         "boundary_conditions:\n"
+         "  - {region: {shape: box, min: [0, 0], max: [0.02, 0.002]}, fixed: true}\n"
+         "  - {region: {shape: box, min: [0, 0.018], max: [0.02, 0.02]}, displacement: {y: "
+         "3.0e-6}}\n"
+         "no_fail:\n  - {shape: box, min: [0, 0], max: [0.02, 0.003]}\n"
+         "  - {shape: box, min: [0, 0.017], max: [0.02, 0.02]}\n"
+         "effects: " +
+         effects + "\nsolver: {type: static, tolerance: 1.0e-5" + solver_extra +
+         "}\ntime: {steps: 10}\n";
+}
+
 }  // namespace dhpd::test

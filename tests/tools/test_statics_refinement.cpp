@@ -16,31 +16,14 @@
 #include "engine/physics/loads.hpp"
 #include "refine/refiner.hpp"
 #include "tests/support/checkpoint.hpp"
+#include "tests/support/statics.hpp"
 #include "tools/scene/build.hpp"
 #include "tools/scene/scene.hpp"
 
 namespace dhpd {
 namespace {
 
-/// The notched plate of Statics.NotchedPlate…, with held bands two coarse rows wide whose edges
-/// fall between the rows of both lattices (so the refined and uniform lattices hold the same
-/// material), `spacing` and `effects` as given.
-std::string notched_plate(double spacing, const std::string& effects) {
-  return "name: notched\ndimension: 2\nplane: stress\nthickness: 0.001\nmaterials:\n"
-         "  glass: {E: 72.0e9, rho: 2440, G0: 3.8}\nbody:\n"
-         "  - {shape: box, min: [0, 0], max: [0.02, 0.02], spacing: " +
-         std::to_string(spacing) +
-         ", material: glass}\n"
-         "cracks:\n  - [[0.0, 0.01], [0.005, 0.01]]\npartial_volume: linear\n"
-         "boundary_conditions:\n"
-         "  - {region: {shape: box, min: [0, 0], max: [0.02, 0.002]}, fixed: true}\n"
-         "  - {region: {shape: box, min: [0, 0.018], max: [0.02, 0.02]}, displacement: {y: "
-         "3.0e-6}}\n"
-         "no_fail:\n  - {shape: box, min: [0, 0], max: [0.02, 0.003]}\n"
-         "  - {shape: box, min: [0, 0.017], max: [0.02, 0.02]}\n"
-         "effects: " +
-         effects + "\nsolver: {type: static, tolerance: 1.0e-5}\ntime: {steps: 10}\n";
-}
+using test::notched_plate;
 
 /// A static run stepped as the run loop steps it: the refiner checks between relaxations.
 struct StaticRun {
