@@ -1,12 +1,77 @@
 // Surface correction of the ordinary state-based family (docs/theory.md §20.5; the factors of
 // Madenci & Oterkus, Peridynamic Theory and Its Applications (2014) §4.2, for this model's terms).
+#include <Eigen/Dense>
 #include <array>
 #include <cmath>
+#include <optional>
 
 #include "engine/base/parallel.hpp"
 #include "engine/physics/ordinary_state.hpp"
 
 namespace dhpd {
+namespace {
+
+/// Up to six components of a symmetric tensor: (0,0), (1,1), (2,2), (0,1), (0,2), (1,2), the first
+/// n(n+1)/2 of them in n dimensions (2D: xx, yy, xy).
+constexpr int kPairs[6][2] = {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {0, 2}, {1, 2}};
+int pair_of(int n, int k) {
+  return n == 2 && k == 2 ? 3 : k;
+}  // 2D: xx, yy, xy
+
+/// A symmetric tensor as its n(n+1)/2 components (off-diagonals counted twice): n·B·n = Σ_k b_k
+/// n_a n_b.
+using SymmetricTensor = std::array<double, 6>;
+
+/// B_i of the exact dilatation (docs/theory.md §20.5): Σ_j w |ξ|² (n·B·n) n⊗n = I over i's own
+/// bonds, so that θ_i = Σ_j w |ξ| (n·B·n) e is the trace of every uniform strain; none when the
+/// fourth moments are singular or B is not positive along every own bond (a horizon too thin in
+/// some direction), where the axes' ellipse stays.
+std::optional<SymmetricTensor> exact_dilatation_tensor(const BondRows& rows, const ParticleStore& p,
+                                                       std::size_t i, int n,
+                                                       const std::vector<double>& own_weight) {
+  const int c = n * (n + 1) / 2;
+  using Matrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>;
+  using Vector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1>;
+  Matrix A = Matrix::Zero(c, c);
+  Vector rhs = Vector::Zero(c);
+  const auto products = [&](std::int64_t k, double out[6]) {
+    const auto j = static_cast<std::size_t>(rows.other[k]);
+    const double length = rows.length(k);
+    double na[3] = {0, 0, 0};
+    for (int a = 0; a < n; ++a)
+      na[a] = (p.reference_position[a][j] - p.reference_position[a][i]) / length;
+    for (int q = 0; q < c; ++q) {
+      const auto& ab = kPairs[pair_of(n, q)];
+      out[q] = na[ab[0]] * na[ab[1]];
+    }
+  };
+  for (auto k = rows.begin(i); k < rows.end(i); ++k) {
+    if (!rows.has_own(k)) continue;
+    double nn[6];
+    products(k, nn);
+    const double length = rows.length(k), w = own_weight[k] * length * length;
+    for (int q = 0; q < c; ++q)
+      for (int r = 0; r < c; ++r) A(q, r) += w * nn[q] * nn[r];
+  }
+  for (int q = 0; q < n; ++q) rhs(q) = 1.0;  // the diagonal components of I
+  const Eigen::LDLT<Matrix> ldlt(A);
+  if (ldlt.info() != Eigen::Success || !ldlt.isPositive()) return std::nullopt;
+  const double scale = A.diagonal().maxCoeff();
+  if (!(ldlt.vectorD().minCoeff() > 1e-8 * scale)) return std::nullopt;
+  const Vector b = ldlt.solve(rhs);
+  SymmetricTensor out{};
+  for (int q = 0; q < c; ++q) out[static_cast<std::size_t>(q)] = b(q);
+  for (auto k = rows.begin(i); k < rows.end(i); ++k) {  // positive along every own bond
+    if (!rows.has_own(k)) continue;
+    double nn[6], along = 0.0;
+    products(k, nn);
+    for (int q = 0; q < c; ++q) along += out[static_cast<std::size_t>(q)] * nn[q];
+    if (!(along > 0.0)) return std::nullopt;
+  }
+  return out;
+}
+
+}  // namespace
 
 SurfaceFactors surface_factors(const BondRows& rows, const ParticleStore& p,
                                const OrdinaryStateInputs& in, const std::vector<double>& m,
@@ -15,6 +80,8 @@ SurfaceFactors surface_factors(const BondRows& rows, const ParticleStore& p,
   const std::size_t count = p.size();
   using Axes = std::array<double, 3>;
   std::vector<Axes> dil(count, Axes{1, 1, 1}), dev(count, Axes{1, 1, 1});
+  // The exact dilatation's tensor, scaled by m_i/n (1 inside a lattice), where it exists.
+  std::vector<std::optional<SymmetricTensor>> exact(count);
   const auto unit = [&](std::size_t i, std::size_t j, double length, int a) {
     return (p.reference_position[a][j] - p.reference_position[a][i]) / length;
   };
@@ -44,6 +111,8 @@ SurfaceFactors surface_factors(const BondRows& rows, const ParticleStore& p,
       if (n > 1 && deviatoric > 0.0)
         dev[i][a] = moduli.shear * (1.0 - 1.0 / n) / (0.5 * Q * deviatoric);
     }
+    if (n > 1 && (exact[i] = exact_dilatation_tensor(rows, p, i, n, own_weight)))
+      for (auto& b : *exact[i]) b *= m[i] / n;
   }
   // Per entry: the owner's factors read along the bond as an ellipse (ellipsoid): i's for its own
   // bond, j's for the bond j owns on i (the reaction of j's state, which row j computes the same).
@@ -56,6 +125,14 @@ SurfaceFactors surface_factors(const BondRows& rows, const ParticleStore& p,
     for (int a = 0; a < n; ++a) sum += (na[a] / f[a]) * (na[a] / f[a]);
     return 1.0 / std::sqrt(sum);
   };
+  const auto quadratic = [&](const SymmetricTensor& b, const double* na) {
+    double sum = 0.0;
+    for (int q = 0; q < n * (n + 1) / 2; ++q) {
+      const auto& ab = kPairs[pair_of(n, q)];
+      sum += b[static_cast<std::size_t>(q)] * na[ab[0]] * na[ab[1]];
+    }
+    return sum;
+  };
 #pragma omp parallel for schedule(static) if (N >= kParallelMinParticles)
   for (std::int64_t s = 0; s < N; ++s) {
     const auto i = static_cast<std::size_t>(s);
@@ -64,9 +141,9 @@ SurfaceFactors surface_factors(const BondRows& rows, const ParticleStore& p,
       const double length = rows.length(k);
       double na[3] = {0, 0, 0};
       for (int a = 0; a < n; ++a) na[a] = unit(i, j, length, a);
-      out.own_dilatation[k] = along(dil[i], na);
+      out.own_dilatation[k] = exact[i] ? quadratic(*exact[i], na) : along(dil[i], na);
       out.own_deviatoric[k] = along(dev[i], na);
-      out.dual_dilatation[k] = along(dil[j], na);
+      out.dual_dilatation[k] = exact[j] ? quadratic(*exact[j], na) : along(dil[j], na);
       out.dual_deviatoric[k] = along(dev[j], na);
     }
   }
