@@ -26,8 +26,7 @@ Simulation::Simulation(SimulationSetup setup)
     bonds_ = build_bond_rows(p_, setup_.partial_volume, setup_.cracks);
     if (setup_.model == ForceModel::MultiHorizon)
       interaction_scale_ = interaction_scales(bonds_, p_, C_);
-    if (corrects_interfaces())
-      initial_interfaces_ = correct_level_interfaces(bonds_, p_, setup_.partial_volume, C_, {});
+    if (corrects_interfaces()) initial_interfaces_ = correct_interfaces({});
     refresh_rows(bonds_, bond_constants(), true);
     build_state_model();
   }

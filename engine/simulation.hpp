@@ -298,6 +298,12 @@ class Simulation {
   void update_bond_constants(const std::vector<std::int32_t>& slots);
   /// The ordinary state-based constants of the current rows (family OrdinaryState only).
   void build_state_model();
+  /// What the ordinary state-based constants are built from (any family: the correspondence
+  /// model takes the same).
+  OrdinaryStateInputs state_inputs() const;
+  /// The level-interface factors of the rows in `region` (every row when empty): the pair
+  /// stiffness factors of §14 (bond-based) or the state-based weights' of §20.6.
+  InterfaceCorrection correct_interfaces(const std::vector<std::int32_t>& region);
   /// Internal force densities plus body forces; with fracture, bonds break in the same pass.
   /// With `row_energy`, the pass also leaves each row's energy sum there (force kernels, Energy).
   void compute_forces(bool with_fracture = false, std::vector<double>* row_energy = nullptr,

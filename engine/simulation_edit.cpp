@@ -19,16 +19,17 @@ double seconds_since(std::chrono::steady_clock::time_point t) {
 }  // namespace
 
 bool Simulation::corrects_interfaces() const {
-  return setup_.interface_correction && setup_.model == ForceModel::DualHorizon;
+  return setup_.interface_correction && setup_.model == ForceModel::DualHorizon &&
+         setup_.family != ModelFamily::Correspondence;
 }
 
 Simulation::Discretisation Simulation::begin_edit(std::vector<std::int32_t> energy_rows,
                                                   const std::vector<std::int32_t>& moving) {
   if (edit_) throw EngineError("begin_edit: an edit is already open");
-  // The state-based family's level interfaces carry a force layer that no correction removes yet:
-  // Kalthoff–Winkler 2D adaptive cracked along them from the back face (docs/theory.md §20.2).
-  if (state_based())
-    throw InputError("refinement is not available with the state-based families yet");
+  // The correspondence family's level interfaces carry a force layer that no correction removes
+  // yet (docs/theory.md §21.3).
+  if (correspondence_)
+    throw InputError("refinement is not available with the correspondence family");
   if (setup_.model == ForceModel::MultiHorizon)
     throw InputError("refinement is not offered with model multi-horizon (α fixed at the start)");
   if (setup_.model == ForceModel::ConstantHorizon)
@@ -37,7 +38,9 @@ Simulation::Discretisation Simulation::begin_edit(std::vector<std::int32_t> ener
         "not constant-horizon");
   // Unchanged rows give the same bits before and after and cancel: only the named rows count.
   OpenEdit e;
-  e.energy_before = strain_energy_of_rows(bonds_, p_, energy_rows) + kinetic_energy_of(p_, moving);
+  e.energy_before = (state_ ? state_->strain_energy(bonds_, p_)
+                            : strain_energy_of_rows(bonds_, p_, energy_rows)) +
+                    kinetic_energy_of(p_, moving);
   e.correction_before = verlet_correction();
   e.energy_rows = std::move(energy_rows);
   edit_ = std::move(e);
@@ -68,10 +71,10 @@ EditOutcome Simulation::commit_edit(const DiscretisationChange& change,
   // The rows the edit touched hold every bond that changed: bonds with both ends among them are
   // solved again; the others keep their factors, and particles outside keep their bonds, so they
   // stay consistent (docs/theory.md §14).
-  if (corrects_interfaces())
-    out.interfaces = correct_level_interfaces(bonds_, p_, setup_.partial_volume, C_, dirty);
+  if (corrects_interfaces()) out.interfaces = correct_interfaces(dirty);
   const auto constants = bond_constants();
   for (const auto i : dirty) refresh_row(bonds_, constants, static_cast<std::size_t>(i));
+  if (state_) build_state_model();
   particle_time_steps(bonds_, p_, particle_dt_, &dirty);
   critical_dt_ = estimate_critical_dt();
   // A fixed step stays while it is stable; otherwise the scene's safety applies to the new step.
@@ -81,7 +84,10 @@ EditOutcome Simulation::commit_edit(const DiscretisationChange& change,
   levels_.reset();  // one global step at the finest particles' dt until relevel()
   inherit_loads(loads_, change.successor, change.predecessor);
   enforce_prescribed_velocity();
-  internal_force_density(bonds_, p_, &dirty, nullptr, &kernel_points_);
+  if (state_)
+    state_->forces(bonds_, p_);
+  else
+    internal_force_density(bonds_, p_, &dirty, nullptr, &kernel_points_);
   touched_.resize(p_.size(), 0);
   for (const auto i : dirty) touched_[static_cast<std::size_t>(i)] = 1;
   const double lambda = load_factor();  // 1 in dynamics
@@ -99,8 +105,9 @@ EditOutcome Simulation::commit_edit(const DiscretisationChange& change,
   auto rows = std::move(edit_->energy_rows);
   for (const auto c : change.new_particles)
     if (static_cast<std::size_t>(c) >= change.old_size) rows.push_back(c);
-  out.energy_change = strain_energy_of_rows(bonds_, p_, rows) +
-                      kinetic_energy_of(p_, change.new_particles) - edit_->energy_before;
+  out.energy_change =
+      (state_ ? state_->strain_energy(bonds_, p_) : strain_energy_of_rows(bonds_, p_, rows)) +
+      kinetic_energy_of(p_, change.new_particles) - edit_->energy_before;
   // The shadow energy also moves with the new forces and the new dt (a pass over particles only).
   out.shadow_change = out.energy_change - (verlet_correction() - edit_->correction_before);
   budget_.mapping += out.shadow_change;
@@ -139,6 +146,7 @@ void Simulation::renumber() {
     interaction_scale_ = std::move(scale);
   }
   update_bond_constants();
+  if (state_) build_state_model();
   particle_time_steps(bonds_, p_, particle_dt_);
   renumber_loads(loads_, new_index);
   touched_.assign(n, 0);

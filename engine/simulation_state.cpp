@@ -3,19 +3,27 @@
 #include <optional>
 
 #include "engine/physics/stable_step.hpp"
+#include "engine/physics/state_interfaces.hpp"
 #include "engine/simulation.hpp"
 
 namespace dhpd {
 
+OrdinaryStateInputs Simulation::state_inputs() const {
+  return {setup_.section,   setup_.model,      setup_.partial_volume,
+          setup_.influence, &setup_.materials, setup_.surface_correction};
+}
+
 void Simulation::build_state_model() {
-  const OrdinaryStateInputs in{setup_.section,   setup_.model,      setup_.partial_volume,
-                               setup_.influence, &setup_.materials, setup_.surface_correction};
-  if (setup_.family == ModelFamily::Correspondence) correspondence_.emplace(bonds_, p_, in);
+  if (setup_.family == ModelFamily::Correspondence)
+    correspondence_.emplace(bonds_, p_, state_inputs());
   if (setup_.family != ModelFamily::OrdinaryState) return;
-  state_.emplace(
-      bonds_, p_,
-      OrdinaryStateInputs{setup_.section, setup_.model, setup_.partial_volume, setup_.influence,
-                          &setup_.materials, setup_.surface_correction});
+  state_.emplace(bonds_, p_, state_inputs());
+}
+
+InterfaceCorrection Simulation::correct_interfaces(const std::vector<std::int32_t>& region) {
+  if (setup_.family == ModelFamily::OrdinaryState)
+    return correct_state_interfaces(bonds_, p_, state_inputs(), region);
+  return correct_level_interfaces(bonds_, p_, setup_.partial_volume, C_, region);
 }
 
 double Simulation::state_lanczos_dt(const ParticleStore& masses) const {

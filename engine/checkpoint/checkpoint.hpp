@@ -27,8 +27,9 @@ namespace dhpd {
 //    entries' flags and factors (row order) and the stiffness scale are stored;
 // 7: the payload in LZ4 blocks;
 // 8: the loads hold each prescribed entry's displacement and condition (static runs,
-//    displacement conditions, functions of time).
-constexpr std::uint32_t kCheckpointVersion = 8;
+//    displacement conditions, functions of time);
+// 9: the rows' state-based dilatation factors (ordinary state-based level interfaces).
+constexpr std::uint32_t kCheckpointVersion = 9;
 
 /// The in-memory snapshot of a simulation (every array as it is, row arenas included).
 std::vector<std::byte> save_simulation(const Simulation& sim);

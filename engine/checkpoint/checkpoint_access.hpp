@@ -49,7 +49,7 @@ struct CheckpointAccess {
   struct SavedRows {
     std::vector<std::int32_t> count;
     std::vector<std::uint8_t> flags;
-    std::vector<float> factor;
+    std::vector<float> factor, dilatation_factor;
     double stiffness_scale = 1.0;
   };
 
@@ -59,18 +59,23 @@ struct CheckpointAccess {
     r.count.resize(b.particles());
     r.flags.reserve(static_cast<std::size_t>(b.live));
     if (!b.factor.empty()) r.factor.reserve(static_cast<std::size_t>(b.live));
+    if (!b.dilatation_factor.empty()) r.dilatation_factor.reserve(static_cast<std::size_t>(b.live));
     for (std::size_t i = 0; i < b.particles(); ++i) {  // each row's entries as one block
       r.count[i] = b.rows.count[i];
       r.flags.insert(r.flags.end(), b.flags.begin() + b.begin(i), b.flags.begin() + b.end(i));
       if (!b.factor.empty())
         r.factor.insert(r.factor.end(), b.factor.begin() + b.begin(i), b.factor.begin() + b.end(i));
+      if (!b.dilatation_factor.empty())
+        r.dilatation_factor.insert(r.dilatation_factor.end(),
+                                   b.dilatation_factor.begin() + b.begin(i),
+                                   b.dilatation_factor.begin() + b.end(i));
     }
     return r;
   }
 
   template <class Ar>
   static void rows_part(SavedRows& r, Ar& ar) {
-    ar(r.count), ar(r.flags), ar(r.factor), ar(r.stiffness_scale);
+    ar(r.count), ar(r.flags), ar(r.factor), ar(r.dilatation_factor), ar(r.stiffness_scale);
   }
 
   /// The rows built from the loaded particles, with the saved flags and factors; refuses a
@@ -81,7 +86,8 @@ struct CheckpointAccess {
       ar.fail("its bond rows do not fit its particles");
     BondRows b = build_bond_rows(p, s.setup_.partial_volume, s.setup_.cracks);
     if (b.rows.count != r.count || r.flags.size() != b.other.size() ||
-        !(r.factor.empty() || r.factor.size() == b.other.size()))
+        !(r.factor.empty() || r.factor.size() == b.other.size()) ||
+        !(r.dilatation_factor.empty() || r.dilatation_factor.size() == b.other.size()))
       ar.fail("its bond rows are not those its particles give (another scene or version?)");
     for (std::size_t k = 0; k < r.flags.size(); ++k) {
       const auto f = r.flags[k];
@@ -91,6 +97,7 @@ struct CheckpointAccess {
     }
     b.flags = r.flags;
     b.factor = r.factor;
+    b.dilatation_factor = r.dilatation_factor;
     b.stiffness_scale = r.stiffness_scale;
     s.bonds_ = std::move(b);
     refresh_rows(s.bonds_, s.bond_constants(), false);
@@ -282,6 +289,7 @@ struct CheckpointAccess {
     const bool ok = rows_fit(b.rows, s.p_.size(), slots) && b.length_index.size() == slots &&
                     in_range(b.length_index, 0, lengths) && b.flags.size() == slots &&
                     b.stiffness.size() == slots && (b.factor.empty() || b.factor.size() == slots) &&
+                    (b.dilatation_factor.empty() || b.dilatation_factor.size() == slots) &&
                     b.break_ratio2.size() == s.p_.size() && in_range(b.other, -1, n) &&
                     b.stiffness_scale > 0.0 && in_range(l.prescribed, 0, n) &&
                     in_range(l.loaded, 0, n) && l.mask.size() == l.prescribed.size() &&

@@ -17,6 +17,7 @@ struct Entry {
   std::int32_t other;
   std::uint8_t flags;
   float factor;
+  float dilatation;  ///< the own bond's state-based dilatation factor
 };
 
 /// A new bond seen from its neighbour's row: (neighbour, owner, intact).
@@ -39,19 +40,21 @@ void merge_row(const BondRows& b, std::int32_t t, const std::vector<std::int32_t
     auto f = b.flags[k];
     if (rewritten) f = static_cast<std::uint8_t>(f & ~own_bits);
     if (among(owners, b.other[k])) f = static_cast<std::uint8_t>(f & ~dual_bits);
-    if (f) out.push_back({b.other[k], f, f & kOwn ? static_cast<float>(b.own_factor(k)) : 1.0f});
+    if (f)
+      out.push_back({b.other[k], f, f & kOwn ? static_cast<float>(b.own_factor(k)) : 1.0f,
+                     f & kOwn ? static_cast<float>(b.own_dilatation_factor(k)) : 1.0f});
   }
   auto entry_of = [&](std::int32_t j) -> Entry& {
     const auto it = std::lower_bound(out.begin(), out.end(), j,
                                      [](const Entry& e, std::int32_t x) { return e.other < x; });
     if (it != out.end() && it->other == j) return *it;
-    return *out.insert(it, Entry{j, 0, 1.0f});
+    return *out.insert(it, Entry{j, 0, 1.0f, 1.0f});
   };
   if (rewritten)
     for (const auto& nb : *own_new) {
       auto& e = entry_of(nb.neighbor);
       e.flags = static_cast<std::uint8_t>(e.flags | kOwn | (nb.intact ? kOwnIntact : 0));
-      e.factor = 1.0f;  // set again by the interface correction
+      e.factor = e.dilatation = 1.0f;  // set again by the interface correction
     }
   for (auto d = dual_first; d != dual_last; ++d) {
     auto& e = entry_of(std::get<1>(*d));
@@ -80,6 +83,7 @@ void write_row(BondRows& b, const ParticleStore& p, std::int32_t t,
         lengths.index_of(inverse_reference_length(p, u, static_cast<std::size_t>(x.other)));
     b.stiffness[k] = 0.0f;  // derived by the caller
     if (!b.factor.empty()) b.factor[k] = x.factor;
+    if (!b.dilatation_factor.empty()) b.dilatation_factor[k] = x.dilatation;
     b.own_bonds += x.flags & kOwn ? 1 : 0;
   }
   for (auto k = s + n; k < s + b.rows.capacity[u]; ++k) b.other[k] = -1, b.flags[k] = 0;

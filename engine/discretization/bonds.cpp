@@ -124,6 +124,7 @@ void BondRows::fit_arena() {
   flags.resize(n, 0);
   stiffness.resize(n, 0.0f);
   if (!factor.empty()) factor.resize(n, 1.0f);
+  if (!dilatation_factor.empty()) dilatation_factor.resize(n, 1.0f);
 }
 
 namespace {
@@ -183,7 +184,7 @@ void sort_row(BondRows& b, std::size_t i, std::vector<std::int64_t>& order,
 
 std::size_t BondRows::bytes() const {
   return rows.bytes() + held(other) + held(length_index) + held(inverse_lengths) + held(flags) +
-         held(factor) + held(stiffness) + held(break_ratio2);
+         held(factor) + held(dilatation_factor) + held(stiffness) + held(break_ratio2);
 }
 
 BondRows build_bond_rows(const ParticleStore& p, PartialVolume pv,
@@ -281,6 +282,7 @@ BondRows renumbered_rows(const BondRows& rows, const std::vector<std::int32_t>& 
   for (std::size_t k = 0; k < n; ++k) counts[k] = rows.rows.count[order[k]];
   b.rows = RowIndex::packed(counts);
   if (!rows.factor.empty()) b.factor.assign(1, 1.0f);  // fit_arena sizes a non-empty one
+  if (!rows.dilatation_factor.empty()) b.dilatation_factor.assign(1, 1.0f);
   b.fit_arena();
   b.stiffness_scale = rows.stiffness_scale;
   b.break_ratio2.resize(n);
@@ -301,6 +303,7 @@ BondRows renumbered_rows(const BondRows& rows, const std::vector<std::int32_t>& 
       b.flags[s] = rows.flags[e];
       b.stiffness[s] = rows.stiffness[e];
       if (!b.factor.empty()) b.factor[s] = rows.factor[e];
+      if (!b.dilatation_factor.empty()) b.dilatation_factor[s] = rows.dilatation_factor[e];
       ++s;
     }
   }

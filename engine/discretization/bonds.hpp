@@ -34,6 +34,9 @@ struct BondRows {
   /// φ_ij = 1 + λ of the own bond (engine/physics/interface_consistency.hpp); empty while every
   /// factor is 1 (no level interface has been corrected).
   std::vector<float> factor;
+  /// ψ_ij = 1 + ν of the own bond's dilatation weight (ordinary state-based family only:
+  /// engine/physics/state_interfaces.hpp); empty while every one is 1.
+  std::vector<float> dilatation_factor;
   /// K of the entry's intact bonds divided by `stiffness_scale`, without the other's volume: for
   /// dual-horizon C_i β_ij φ_ij μ_ij + C_j β_ji φ_ji μ_ji, the same bits in both rows of a pair
   /// (engine/physics/interactions.hpp). 0 once both are broken.
@@ -64,6 +67,9 @@ struct BondRows {
   double length(std::int64_t k) const { return 1.0 / inverse_length(k); }
   /// φ of the own bond of entry k (1 while no factor is stored).
   double own_factor(std::int64_t k) const { return factor.empty() ? 1.0 : factor[k]; }
+  double own_dilatation_factor(std::int64_t k) const {
+    return dilatation_factor.empty() ? 1.0 : dilatation_factor[k];
+  }
   /// The entry of j in row i (rows are sorted by `other`), or −1.
   std::int64_t find(std::size_t i, std::int32_t j) const;
   /// Own bonds of row i.

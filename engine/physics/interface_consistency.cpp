@@ -264,10 +264,9 @@ void correct(BondRows& b, const ParticleStore& p, PartialVolume rule,
 
 }  // namespace
 
-InterfaceCorrection correct_level_interfaces(BondRows& b, const ParticleStore& p,
-                                             PartialVolume rule, const std::vector<double>& C,
-                                             const std::vector<std::int32_t>& region) {
-  InterfaceCorrection out;
+std::vector<std::int32_t> reset_interface_region(BondRows& b, const ParticleStore& p,
+                                                 PartialVolume rule,
+                                                 const std::vector<std::int32_t>& region) {
   const Region in(region, p.size());
   const std::size_t n = in.all() ? p.size() : region.size();
   auto particle = [&](std::size_t k) {
@@ -284,6 +283,14 @@ InterfaceCorrection correct_level_interfaces(BondRows& b, const ParticleStore& p
   std::vector<std::int32_t> constrained;
   for (std::size_t k = 0; k < n; ++k)
     if (tests.constrained(particle(k))) constrained.push_back(particle(k));
+  return constrained;
+}
+
+InterfaceCorrection correct_level_interfaces(BondRows& b, const ParticleStore& p,
+                                             PartialVolume rule, const std::vector<double>& C,
+                                             const std::vector<std::int32_t>& region) {
+  InterfaceCorrection out;
+  auto constrained = reset_interface_region(b, p, rule, region);
   with_components(p.dim(),
                   [&](auto c) { correct<c()>(b, p, rule, C, std::move(constrained), out); });
   return out;

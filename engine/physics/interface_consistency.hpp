@@ -37,6 +37,14 @@ inline double complete_horizon_moment(int dim) {
   return dim == 1 ? 0.25 : 0.15;
 }
 
+/// Resets the factors (rows.factor, when allocated) of the own bonds with both ends in `region`
+/// (sorted particle indices; every particle when empty) to 1 and returns the region's constrained
+/// particles, in order: those with a bond (own or dual) across a horizon jump, or bonded to such a
+/// particle, whose own horizon and whose partners' horizons are complete (docs/theory.md (14.3)).
+std::vector<std::int32_t> reset_interface_region(BondRows& rows, const ParticleStore& p,
+                                                 PartialVolume rule,
+                                                 const std::vector<std::int32_t>& region);
+
 /// Recomputes the factors φ = 1 + λ (rows.factor, allocated on first use) of the own bonds with
 /// both ends in `region` (sorted particle indices; every particle when empty): factors reset to 1,
 /// then, over the particles of the region that have a bond (own or dual) across a horizon jump and

@@ -14,6 +14,7 @@
 #include "engine/discretization/bonds.hpp"
 #include "engine/discretization/particles.hpp"
 #include "engine/physics/bond_loops.hpp"
+#include "engine/physics/conjugate_gradient.hpp"
 
 namespace dhpd::interface_detail {
 
@@ -131,26 +132,11 @@ class BlockSolver {
     return lambda;
   }
 
+  /// The moments to 10⁻³ of what they were.
   int solve(Eigen::VectorXd& x) const {
-    const Eigen::VectorXd& rhs = sys_.rhs;
-    x.setZero(rhs.size());
-    Eigen::VectorXd r = rhs, z(rhs.size()), q(rhs.size());
-    precondition(r, z);
-    Eigen::VectorXd dir = z;
-    double rz = r.dot(z);
-    const double stop = 1e-3 * rhs.norm();  // the moments to 1e-3 of what they were
-    int it = 0;
-    for (; it < 2000 && r.norm() > stop; ++it) {
-      apply(dir, q);
-      const double alpha = rz / dir.dot(q);
-      x += alpha * dir;
-      r -= alpha * q;
-      precondition(r, z);
-      const double rz_next = r.dot(z);
-      dir = z + (rz_next / rz) * dir;
-      rz = rz_next;
-    }
-    return it;
+    return preconditioned_cg(
+        sys_.rhs, x, [&](const Eigen::VectorXd& in, Eigen::VectorXd& out) { apply(in, out); },
+        [&](const Eigen::VectorXd& in, Eigen::VectorXd& out) { precondition(in, out); });
   }
 
  private:

@@ -157,14 +157,35 @@ OrdinaryState::OrdinaryState(const BondRows& rows, const ParticleStore& p,
   own_dilatation_ = own_weight_;
   dual_dilatation_ = dual_weight_;
   if (multi_) use_multi_horizon(rows, p, in);  // without surface factors (refused with them)
-  if (!in.surface_correction || multi_) return;
-  const SurfaceFactors f = surface_factors(rows, p, in, m_, own_weight_);
-  for (std::size_t k = 0; k < rows.flags.size(); ++k) {
-    own_dilatation_[k] *= f.own_dilatation[k];
-    dual_dilatation_[k] *= f.dual_dilatation[k];
-    own_weight_[k] *= f.own_deviatoric[k];
-    dual_weight_[k] *= f.dual_deviatoric[k];
+  if (in.surface_correction && !multi_) {
+    const SurfaceFactors f = surface_factors(rows, p, in, m_, own_weight_);
+    for (std::size_t k = 0; k < rows.flags.size(); ++k) {
+      own_dilatation_[k] *= f.own_dilatation[k];
+      dual_dilatation_[k] *= f.dual_dilatation[k];
+      own_weight_[k] *= f.own_deviatoric[k];
+      dual_weight_[k] *= f.dual_deviatoric[k];
+    }
   }
+  if (!rows.factor.empty() || !rows.dilatation_factor.empty()) apply_interface_factors(rows);
+}
+
+void OrdinaryState::apply_interface_factors(const BondRows& rows) {
+  // The own bond's φ and ψ in its row; the other's from its entry in the other row (the same
+  // bits).
+  for_each_particle(rows.particles(), [&](std::size_t i) {
+    for (auto k = rows.begin(i); k < rows.end(i); ++k) {
+      if (rows.has_own(k)) {
+        own_weight_[k] *= rows.own_factor(k);
+        own_dilatation_[k] *= rows.own_dilatation_factor(k);
+      }
+      if (rows.has_dual(k)) {
+        const auto j = static_cast<std::size_t>(rows.other[k]);
+        const auto mirror = rows.find(j, static_cast<std::int32_t>(i));
+        dual_weight_[k] *= rows.own_factor(mirror);
+        dual_dilatation_[k] *= rows.own_dilatation_factor(mirror);
+      }
+    }
+  });
 }
 
 template <int Dim, class Kinematics>

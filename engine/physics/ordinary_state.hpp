@@ -63,7 +63,9 @@ SurfaceFactors surface_factors(const BondRows& rows, const ParticleStore& p,
 class OrdinaryState {
  public:
   OrdinaryState() = default;
-  /// Builds every constant for the rows as they are (all bonds intact or not: m counts both).
+  /// Builds every constant for the rows as they are (all bonds intact or not: m counts both). The
+  /// rows' factors φ and ψ (when allocated) scale each bond's deviatoric and dilatation weights:
+  /// the level-interface correction of docs/theory.md §20.6 (engine/physics/state_interfaces.hpp).
   OrdinaryState(const BondRows& rows, const ParticleStore& p, const OrdinaryStateInputs& in);
 
   /// θ of every particle from the current positions, then the force density of every particle
@@ -83,6 +85,17 @@ class OrdinaryState {
   const std::vector<double>& dilatation() const { return theta_; }
   /// m_i of every particle.
   const std::vector<double>& weighted_volume() const { return m_; }
+  /// κ_i and Q_i = n (n+2) G_i / m_i of every particle.
+  const std::vector<double>& bulk() const { return bulk_; }
+  const std::vector<double>& deviatoric_coefficient() const { return deviatoric_coefficient_; }
+  /// Per row entry, the own bond's w h (dilatation) and w g φ (deviatoric) and the same of the bond
+  /// the other particle owns on this one (w = ω β V_j, the owner's factors; §20.5, §20.6).
+  const std::vector<double>& own_dilatation_weight() const { return own_dilatation_; }
+  const std::vector<double>& own_deviatoric_weight() const { return own_weight_; }
+  const std::vector<double>& dual_dilatation_weight() const { return dual_dilatation_; }
+  const std::vector<double>& dual_deviatoric_weight() const { return dual_weight_; }
+  /// The dimension n of the model.
+  int dimension() const { return n_; }
   /// Multi-horizon α of each particle's interaction horizons (2i: toward −x, 2i + 1: toward +x;
   /// docs/theory.md §24); empty under the other models.
   const std::vector<double>& interaction_scale() const { return interaction_scale_; }
@@ -94,6 +107,10 @@ class OrdinaryState {
   template <int Dim, bool Multi, class Kinematics>
   void force_pass(const BondRows& rows, const ParticleStore& p, const Kinematics& kin,
                   double* const out[3], bool per_density);
+
+  /// Multiplies the deviatoric weights by the rows' factors φ and the dilatation weights by their
+  /// dilatation factors ψ (docs/theory.md §20.6).
+  void apply_interface_factors(const BondRows& rows);
 
   /// Multi-horizon (multi_horizon_state.cpp): α per interaction horizon from eq. 7 with this
   /// model's integrand, the finer particle's interaction states in interaction_weight_ and the

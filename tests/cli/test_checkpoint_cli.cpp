@@ -110,7 +110,7 @@ TEST_F(CheckpointCli, DamagedMissingOrForeignCheckpointsAreRefusedBeforeAnything
   auto old = bytes;  // the format before one row entry per neighbour pair
   old[8] = 3;
   damaged("old", old);
-  refused("old", "format version 3, this dhpd reads version 8");
+  refused("old", "format version 3, this dhpd reads version 9");
   damaged("text", "not a checkpoint at all, just some text in a file");
   refused("text", "header");
   damaged("noframe", bytes);

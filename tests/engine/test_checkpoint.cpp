@@ -66,8 +66,8 @@ TEST(Checkpoint, DamagedFilesAreRefused) {
   flipped[flipped.size() / 2] ^= std::byte{0x10};
   refused(flipped, "checksum");
   auto version = good;
-  version[8] = std::byte{9};
-  refused(version, "format version 9");
+  version[8] = static_cast<std::byte>(kCheckpointVersion + 1);  // a version this dhpd cannot read
+  refused(version, "format version " + std::to_string(kCheckpointVersion + 1));
   auto order = good;
   std::swap(order[12], order[15]);
   refused(order, "byte order");

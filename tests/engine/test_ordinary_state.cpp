@@ -9,6 +9,7 @@
 
 #include "engine/physics/ordinary_state.hpp"
 #include "tests/support/engine.hpp"
+#include "tests/support/interfaces.hpp"
 
 namespace dhpd {
 namespace {
@@ -31,16 +32,6 @@ StateAssembly assemble_state(const ParticleStore& p, const Section& s, double nu
 }
 
 using test::section_of;
-
-/// Applies y = X + ε X (ε symmetric, first dim axes) to every particle.
-void strain(ParticleStore& p, const double eps[3][3]) {
-  for (std::size_t i = 0; i < p.size(); ++i)
-    for (int a = 0; a < p.dim(); ++a) {
-      double u = 0.0;
-      for (int b = 0; b < p.dim(); ++b) u += eps[a][b] * p.reference_position[b][i];
-      test::set_displacement(p, a, i, u);
-    }
-}
 
 /// Whether particle i lies at least `margin` inside the lattice [0, L]^dim.
 bool interior(const ParticleStore& p, std::size_t i, double L, double margin) {
@@ -87,7 +78,7 @@ TEST_P(UniformStrain, DilatationIsTheTraceEnergyTheContinuumsForceZero) {
       {e0, 0.7 * e0, -0.4 * e0}, {0.7 * e0, -0.5 * e0, 0.3 * e0}, {-0.4 * e0, 0.3 * e0, 0.8 * e0}};
   double worst_theta = 0, worst_dilation_energy = 0, worst_general_energy = 0, force = 0, scale = 0;
   for (const auto* eps : {dilation, general}) {
-    strain(p, eps);
+    test::apply_strain(p, eps);
     a.model.forces(a.bonds, p);
     double tr = 0.0;
     for (int d = 0; d < c.dim; ++d) tr += eps[d][d];
@@ -146,7 +137,7 @@ TEST(SurfaceCorrection, BringsEdgeParticlesTowardsTheContinuum) {
       const auto moduli = state_moduli(a.materials[0], s);
       count = 0;
       for (const auto* eps : {uniaxial, other, shear}) {
-        strain(p, eps);
+        test::apply_strain(p, eps);
         const auto w = a.model.energy_density(a.bonds, p);
         double tr = 0.0;
         for (int d = 0; d < dim; ++d) tr += eps[d][d];
@@ -197,7 +188,7 @@ TEST(GradedLattice, DilatationIsTheTraceAcrossTheInterfaceWithTheCorrection) {
     double worst[2] = {0, 0}, worst_energy[2] = {0, 0}, interface_force = 0.0, edge_force = 0.0;
     for (int c = 0; c < 2; ++c) {
       const auto& eps = c == 0 ? isotropic : general;
-      strain(p, eps);
+      test::apply_strain(p, eps);
       a.model.forces(a.bonds, p);
       const double tr = eps[0][0] + eps[1][1];
       const double w_cont = continuum_energy(eps, 2, moduli);

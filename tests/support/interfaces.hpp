@@ -10,15 +10,17 @@
 
 namespace dhpd::test {
 
-/// u = ε X for every particle (ε a general, not isotropic, small strain).
-inline void apply_strain(Simulation& sim, const double eps[3][3]) {
-  auto& p = sim.particles();
+/// u = ε X for every particle (ε symmetric, its first dim axes).
+inline void apply_strain(ParticleStore& p, const double eps[3][3]) {
   for (std::size_t i = 0; i < p.size(); ++i)
     for (int a = 0; a < p.dim(); ++a) {
       double u = 0.0;
       for (int b = 0; b < p.dim(); ++b) u += eps[a][b] * p.reference_position[b][i];
       test::set_displacement(p, a, i, u);
     }
+}
+inline void apply_strain(Simulation& sim, const double eps[3][3]) {
+  apply_strain(sim.particles(), eps);
 }
 
 struct Forces {

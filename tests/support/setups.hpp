@@ -4,6 +4,7 @@
 #pragma once
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -98,6 +99,16 @@ inline SimulationSetup fracturing_plate() {
   s.boundary_conditions = {top, bottom};
   s.effects.fracture = true;
   return s;
+}
+
+/// |P| / Σ m |v| of a 2D simulation: its momentum against the scale of its particles' momenta.
+inline double relative_momentum(Simulation& sim) {
+  const auto e = sim.energies();
+  double scale = 0.0;
+  const auto& p = sim.particles();
+  for (std::size_t i = 0; i < p.size(); ++i)
+    scale += p.density[i] * p.volume[i] * std::hypot(p.velocity[0][i], p.velocity[1][i]);
+  return std::hypot(e.momentum[0], e.momentum[1]) / scale;
 }
 
 /// Every particle index of the current generation.

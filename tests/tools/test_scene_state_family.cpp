@@ -67,12 +67,13 @@ TEST(StateFamilyScene, RefusesWithLocation) {
        "bad.yaml:7: model.family: the correspondence family is elastic"},
       {scene("{E: 1.0e9, rho: 1000}", "{family: bond, influence: constant}"),
        "bad.yaml:7: model.influence: influence applies to the state-based family only"},
-      {scene("{E: 1.0e9, rho: 1000, G0: 1.0, nu: 0.3}", "{family: ordinary-state}",
+      {scene("{E: 1.0e9, rho: 1000, nu: 0.3}", "{family: correspondence}",
              "effects: {refinement: true}\n"),
-       "bad.yaml:9: effects.refinement: refinement is not available with the state-based families "
-       "yet"},
-      {scene("{E: 1.0e9, rho: 1000}", "{family: ordinary-state}", "interfaces: consistent\n"),
-       "bad.yaml:9: interfaces: interfaces: consistent corrects the bond-based pair stiffness"},
+       "bad.yaml:9: effects.refinement: refinement is not available with the correspondence "
+       "family"},
+      {scene("{E: 1.0e9, rho: 1000}", "{family: correspondence}", "interfaces: consistent\n"),
+       "bad.yaml:9: interfaces: interfaces: consistent corrects the bond-based and ordinary "
+       "state-based weights"},
       {scene("{E: 1.0e9, rho: 1000}", "{family: ordinary-state}", "", 2,
              "{end: 1.0, stable_step: bound}"),
        "bad.yaml:8: time.stable_step: the per-particle bound is derived for bond-based PD"},

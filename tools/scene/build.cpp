@@ -112,7 +112,7 @@ geometry::PointSet body_points(const Scene& s) {
 
 bool consistent_interfaces(const Scene& s) {
   if (s.interfaces) return *s.interfaces;
-  return s.model == ForceModel::DualHorizon && s.family == ModelFamily::Bond &&
+  return s.model == ForceModel::DualHorizon && s.family != ModelFamily::Correspondence &&
          std::all_of(s.body.begin(), s.body.end(),
                      [](const BodyPart& p) { return p.kind == PartKind::Lattice; });
 }

@@ -168,11 +168,11 @@ void read_discretisation(const MapView& top, Scene& s) {
   }
   if (const auto interfaces = top.get("interfaces")) {
     s.interfaces = interfaces->choice({"consistent", "paper"}) == 0;
-    if (*s.interfaces && s.family != ModelFamily::Bond)
+    if (*s.interfaces && s.family == ModelFamily::Correspondence)
       interfaces->fail(
-          "interfaces: consistent corrects the bond-based pair stiffness; the "
-          "state-based family has none to correct",
-          "paper (or model family bond)");
+          "interfaces: consistent corrects the bond-based and ordinary state-based weights; the "
+          "correspondence family has no correction",
+          "paper (or model family bond or ordinary-state)");
     if (*s.interfaces && s.model != ForceModel::DualHorizon)
       interfaces->fail(fmt::format("interfaces: consistent corrects dual-horizon level jumps; "
                                    "model {} has none to correct",

@@ -59,11 +59,11 @@ void check_refinable(const Cursor& c, const Scene& s) {
         "refinement is not offered with model multi-horizon: its α are fixed once at the start "
         "(CMES 2019 §2.2)",
         "model dual-horizon or classical-variable");
-  if (s.family != ModelFamily::Bond)
+  if (s.family == ModelFamily::Correspondence)
     c.fail(
-        "refinement is not available with the state-based families yet: their level "
-        "interfaces carry a force layer that no correction removes (docs/theory.md §20.2)",
-        "model family bond, or refinement: false");
+        "refinement is not available with the correspondence family: its level interfaces "
+        "carry a force layer that no correction removes yet (docs/theory.md §21.3)",
+        "model family bond or ordinary-state, or refinement: false");
 }
 
 }  // namespace
