@@ -26,9 +26,13 @@ Simulation::Simulation(SimulationSetup setup)
     bonds_ = build_bond_rows(p_, setup_.partial_volume, setup_.cracks);
     if (setup_.model == ForceModel::MultiHorizon)
       interaction_scale_ = interaction_scales(bonds_, p_, C_);
-    if (corrects_interfaces()) initial_interfaces_ = correct_interfaces({});
+    std::optional<OrdinaryState> built;  // the state-based model of the corrected rows
+    if (corrects_interfaces()) initial_interfaces_ = correct_interfaces({}, &built);
     refresh_rows(bonds_, bond_constants(), true);
-    build_state_model();
+    if (built)
+      state_ = std::move(built);
+    else
+      build_state_model();
   }
   {
     auto t = timers_.scope(Phase::Search);  // set-up, as the bonds

@@ -303,7 +303,9 @@ class Simulation {
   OrdinaryStateInputs state_inputs() const;
   /// The level-interface factors of the rows in `region` (every row when empty): the pair
   /// stiffness factors of §14 (bond-based) or the state-based weights' of §20.6.
-  InterfaceCorrection correct_interfaces(const std::vector<std::int32_t>& region);
+  /// The ordinary state-based family's model of the corrected rows goes to `built` when given.
+  InterfaceCorrection correct_interfaces(const std::vector<std::int32_t>& region,
+                                         std::optional<OrdinaryState>* built = nullptr);
   /// Internal force densities plus body forces; with fracture, bonds break in the same pass.
   /// With `row_energy`, the pass also leaves each row's energy sum there (force kernels, Energy).
   void compute_forces(bool with_fracture = false, std::vector<double>* row_energy = nullptr,

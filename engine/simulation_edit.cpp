@@ -71,10 +71,14 @@ EditOutcome Simulation::commit_edit(const DiscretisationChange& change,
   // The rows the edit touched hold every bond that changed: bonds with both ends among them are
   // solved again; the others keep their factors, and particles outside keep their bonds, so they
   // stay consistent (docs/theory.md §14).
-  if (corrects_interfaces()) out.interfaces = correct_interfaces(dirty);
+  std::optional<OrdinaryState> built;  // the state-based model of the corrected rows
+  if (corrects_interfaces()) out.interfaces = correct_interfaces(dirty, &built);
   const auto constants = bond_constants();
   for (const auto i : dirty) refresh_row(bonds_, constants, static_cast<std::size_t>(i));
-  if (state_) build_state_model();
+  if (state_ && built)
+    state_ = std::move(built);
+  else if (state_)
+    build_state_model();
   particle_time_steps(bonds_, p_, particle_dt_, &dirty);
   critical_dt_ = estimate_critical_dt();
   // A fixed step stays while it is stable; otherwise the scene's safety applies to the new step.

@@ -20,9 +20,10 @@ void Simulation::build_state_model() {
   state_.emplace(bonds_, p_, state_inputs());
 }
 
-InterfaceCorrection Simulation::correct_interfaces(const std::vector<std::int32_t>& region) {
+InterfaceCorrection Simulation::correct_interfaces(const std::vector<std::int32_t>& region,
+                                                   std::optional<OrdinaryState>* built) {
   if (setup_.family == ModelFamily::OrdinaryState)
-    return correct_state_interfaces(bonds_, p_, state_inputs(), region);
+    return correct_state_interfaces(bonds_, p_, state_inputs(), region, built);
   return correct_level_interfaces(bonds_, p_, setup_.partial_volume, C_, region);
 }
 

@@ -169,6 +169,17 @@ OrdinaryState::OrdinaryState(const BondRows& rows, const ParticleStore& p,
   if (!rows.factor.empty() || !rows.dilatation_factor.empty()) apply_interface_factors(rows);
 }
 
+void OrdinaryState::scale_bond(const BondRows& rows, std::size_t owner, std::int64_t entry) {
+  const auto j = static_cast<std::size_t>(rows.other[entry]);
+  const auto mirror = rows.find(j, static_cast<std::int32_t>(owner));
+  own_weight_[entry] *= rows.own_factor(entry);
+  own_dilatation_[entry] *= rows.own_dilatation_factor(entry);
+  if (mirror >= 0 && rows.has_dual(mirror)) {
+    dual_weight_[mirror] *= rows.own_factor(entry);
+    dual_dilatation_[mirror] *= rows.own_dilatation_factor(entry);
+  }
+}
+
 void OrdinaryState::apply_interface_factors(const BondRows& rows) {
   // The own bond's φ and ψ in its row; the other's from its entry in the other row (the same
   // bits).

@@ -112,6 +112,13 @@ class OrdinaryState {
   /// dilatation factors ψ (docs/theory.md §20.6).
   void apply_interface_factors(const BondRows& rows);
 
+ public:
+  /// Multiplies the weights of the own bond at `entry` of row `owner`, and its side in the other
+  /// row, by the bond's factors as the rows hold them now: for a bond whose factors were 1 when
+  /// the model was built, the bits a new model of the rows would have.
+  void scale_bond(const BondRows& rows, std::size_t owner, std::int64_t entry);
+
+ private:
   /// Multi-horizon (multi_horizon_state.cpp): α per interaction horizon from eq. 7 with this
   /// model's integrand, the finer particle's interaction states in interaction_weight_ and the
   /// α-scaled states of both ends in the dual weights; dual_gate_ marks the entries whose dual

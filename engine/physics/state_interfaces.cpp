@@ -5,6 +5,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "engine/base/parallel.hpp"
 #include "engine/physics/state_interface_system.hpp"
@@ -104,7 +105,8 @@ void solve_and_write(const StateSystem& sys, BondRows& rows, InterfaceCorrection
 
 InterfaceCorrection correct_state_interfaces(BondRows& rows, const ParticleStore& p,
                                              const OrdinaryStateInputs& in,
-                                             const std::vector<std::int32_t>& region) {
+                                             const std::vector<std::int32_t>& region,
+                                             std::optional<OrdinaryState>* built) {
   InterfaceCorrection out;
   // reset_interface_region resets φ; ψ likewise, for the own bonds with both ends in the region.
   if (!rows.dilatation_factor.empty()) {
@@ -119,13 +121,18 @@ InterfaceCorrection correct_state_interfaces(BondRows& rows, const ParticleStore
     }
   }
   const auto constrained = reset_interface_region(rows, p, in.rule, region);
-  if (constrained.empty()) return out;
-  const OrdinaryState model(rows, p, in);  // the region's factors at 1, the others kept
-  const StateSystem sys(rows, p, model, constrained);
-  out.particles = constrained.size();
-  out.bonds = sys.unknowns.size();
-  if (sys.unknowns.empty()) return out;
-  solve_and_write(sys, rows, out);
+  OrdinaryState model(rows, p, in);  // the region's factors at 1, the others kept
+  if (!constrained.empty()) {
+    const StateSystem sys(rows, p, model, constrained);
+    out.particles = constrained.size();
+    out.bonds = sys.unknowns.size();
+    if (!sys.unknowns.empty()) {
+      solve_and_write(sys, rows, out);
+      for (const auto& u : sys.unknowns)  // the solved factors on the model's weights
+        model.scale_bond(rows, static_cast<std::size_t>(sys.particles[u.owner]), u.entry);
+    }
+  }
+  if (built) built->emplace(std::move(model));
   return out;
 }
 

@@ -5,6 +5,7 @@
 #pragma once
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "engine/discretization/bonds.hpp"
@@ -27,10 +28,12 @@ inline constexpr double kSmallestStateFactor = 0.25, kLargestStateFactor = 4.0;
 ///   whose forces the factors reach (the owners' bond partners, through the owners' S and α),
 /// F_p the linearised state-based force on p (all bonds counted, broken or not). The net force and
 /// moment of each connected group cannot change (every bond is a central pair): that part is left.
-/// The caller builds the state model again from the rows.
+/// With `built`, it receives the state model of the rows with the new factors (the same bits as
+/// building it again from them), else the caller builds it.
 InterfaceCorrection correct_state_interfaces(BondRows& rows, const ParticleStore& p,
                                              const OrdinaryStateInputs& in,
-                                             const std::vector<std::int32_t>& region);
+                                             const std::vector<std::int32_t>& region,
+                                             std::optional<OrdinaryState>* built = nullptr);
 
 /// F_p(ε) of every particle for each unit strain ε^q (q: xx, yy, xy in 2D; xx, yy, zz, xy, xz, yz
 /// in 3D; ε_ab = ε_ba = ½ off the diagonal), dim values per strain: out[(p·c + q)·dim + a], with

@@ -60,6 +60,11 @@ TEST(StateRefinement, MomentumDamageAndOwnWeightedVolumesThroughAnAdaptiveRun) {
                             {sim.setup().section, sim.setup().model, sim.setup().partial_volume,
                              sim.setup().influence, &sim.setup().materials, true});
   EXPECT_EQ(model->weighted_volume(), fresh.weighted_volume());
+  // The event's model, its solved factors put on the weights in place, is the rows' model.
+  EXPECT_EQ(model->own_deviatoric_weight(), fresh.own_deviatoric_weight());
+  EXPECT_EQ(model->own_dilatation_weight(), fresh.own_dilatation_weight());
+  EXPECT_EQ(model->dual_deviatoric_weight(), fresh.dual_deviatoric_weight());
+  EXPECT_EQ(model->dual_dilatation_weight(), fresh.dual_dilatation_weight());
   std::printf(
       "state-based adaptive run: %d events, %zu particles, %zu bonds corrected, worst "
       "|P|/sum m|v| %.2e\n",
