@@ -1,11 +1,11 @@
 // The state-based level-interface system and its solve (docs/theory.md §20.6).
 #include "engine/physics/state_interface_system.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numeric>
 
 #include "engine/base/parallel.hpp"
-#include "engine/physics/conjugate_gradient.hpp"
 
 namespace dhpd::state_interface_detail {
 
@@ -107,46 +107,50 @@ StateSystem::StateSystem(const BondRows& rows, const ParticleStore& p, const Ord
   remove_rigid_parts(p);
 }
 
-void StateSystem::collect(const BondRows& rows, const ParticleStore& p, const OrdinaryState& model,
-                          const StrainStates& states,
-                          const std::vector<std::int32_t>& constrained_particles) {
-  std::vector<std::int32_t> local(p.size(), -1);
-  for (const auto i : constrained_particles) {
-    local[static_cast<std::size_t>(i)] = static_cast<std::int32_t>(particles.size());
-    particles.push_back(i);
-  }
-  constrained.assign(particles.size(), 1);
-  const auto& H = model.own_dilatation_weight();
-  const auto& G = model.own_deviatoric_weight();
-  const double n = dim;
-  for (const auto o : constrained_particles) {
-    const auto i = static_cast<std::size_t>(o);
-    const double m = model.weighted_volume()[i], Q = model.deviatoric_coefficient()[i];
+namespace {
+
+/// Gathers the system's owners, unknowns and partners from the rows (StateSystem::collect).
+struct Collector {
+  StateSystem& sys;
+  const BondRows& rows;
+  const ParticleStore& p;
+  const OrdinaryState& model;
+  const StrainStates& states;
+  std::vector<std::int32_t> local;  ///< particle -> its place in sys.particles, or −1
+
+  Owner owner_of(std::size_t i) const {
     const double kappa = model.bulk()[i];
-    if (!(m > 0.0)) continue;
-    Owner owner{local[i],
-                p.volume[i],
-                Q,
-                kappa,
-                m,
-                0.0,
-                {},
-                static_cast<std::int64_t>(partners.size()),
-                0,
-                static_cast<std::int64_t>(unknowns.size()),
-                0,
-                // θ rows as stiff as the force a whole horizon's dilatation puts on o
-                kThetaRowWeight * p.volume[i] * kappa / p.horizon[i]};
-    for (int q = 0; q < strains; ++q) owner.alpha[q] = states.alpha(i, q);
+    Owner o{local[i],
+            p.volume[i],
+            model.deviatoric_coefficient()[i],
+            kappa,
+            model.weighted_volume()[i],
+            0.0,
+            {},
+            static_cast<std::int64_t>(sys.partners.size()),
+            0,
+            static_cast<std::int64_t>(sys.unknowns.size()),
+            0,
+            // θ rows as stiff as the force a whole horizon's dilatation puts on o
+            kThetaRowWeight * p.volume[i] * kappa / p.horizon[i]};
+    for (int q = 0; q < sys.strains; ++q) o.alpha[q] = states.alpha(i, q);
+    return o;
+  }
+
+  /// Every own bond of i to another constrained particle, both its weights positive.
+  void add_unknowns(std::size_t i, Owner& o) {
+    const auto& H = model.own_dilatation_weight();
+    const auto& G = model.own_deviatoric_weight();
+    const double n = sys.dim;
     for (auto k = rows.begin(i); k < rows.end(i); ++k) {
       if (!rows.has_own(k)) continue;
       const auto j = static_cast<std::size_t>(rows.other[k]);
       const auto s = shape_of(rows, p, i, k);
       const double l2 = s.length * s.length;
-      owner.second += G[k] * l2;
-      const double weight = p.volume[i] * G[k] * Q * l2;
-      const double dilatation_weight = p.volume[i] * H[k] * l2 * n * n * kappa / m;
-      if (local[j] < 0 || !constrained[static_cast<std::size_t>(local[j])] || !(weight > 0.0) ||
+      o.second += G[k] * l2;
+      const double weight = p.volume[i] * G[k] * o.Q * l2;
+      const double dilatation_weight = p.volume[i] * H[k] * l2 * n * n * o.kappa / o.m;
+      if (local[j] < 0 || !sys.constrained[static_cast<std::size_t>(local[j])] || !(weight > 0.0) ||
           !(dilatation_weight > 0.0))
         continue;
       Unknown u{k,
@@ -161,32 +165,117 @@ void StateSystem::collect(const BondRows& rows, const ParticleStore& p, const Or
                 weight,
                 dilatation_weight,
                 p.volume[i] * s.length * H[k]};
-      for (int q = 0; q < strains; ++q) {
+      for (int q = 0; q < sys.strains; ++q) {
         u.s[q] = s.stretch[q];
         u.d[q] = s.stretch[q] - states.theta(i, q) / n;
       }
-      unknowns.push_back(u);
+      sys.unknowns.push_back(u);
     }
-    owner.last_unknown = static_cast<std::int64_t>(unknowns.size());
-    if (owner.last_unknown == owner.first_unknown) continue;
-    for (auto k = rows.begin(i); k < rows.end(i); ++k) {  // every own bond feels α's change
+  }
+
+  /// Every own bond of i: α's change reaches each partner (added as a no-change particle).
+  void add_partners(std::size_t i) {
+    const auto& H = model.own_dilatation_weight();
+    const auto& G = model.own_deviatoric_weight();
+    for (auto k = rows.begin(i); k < rows.end(i); ++k) {
       if (!rows.has_own(k)) continue;
       const auto j = static_cast<std::size_t>(rows.other[k]);
       if (local[j] < 0) {
-        local[j] = static_cast<std::int32_t>(particles.size());
-        particles.push_back(static_cast<std::int32_t>(j));
-        constrained.push_back(0);
+        local[j] = static_cast<std::int32_t>(sys.particles.size());
+        sys.particles.push_back(static_cast<std::int32_t>(j));
+        sys.constrained.push_back(0);
       }
       const auto s = shape_of(rows, p, i, k);
-      partners.push_back({local[j],
-                          p.volume[i] * s.length * H[k],
-                          p.volume[i] * s.length * G[k],
-                          {s.n[0], s.n[1], s.n[2]}});
+      sys.partners.push_back({local[j],
+                              p.volume[i] * s.length * H[k],
+                              p.volume[i] * s.length * G[k],
+                              {s.n[0], s.n[1], s.n[2]}});
     }
+  }
+};
+
+}  // namespace
+
+void StateSystem::collect(const BondRows& rows, const ParticleStore& p, const OrdinaryState& model,
+                          const StrainStates& states,
+                          const std::vector<std::int32_t>& constrained_particles) {
+  Collector c{*this, rows, p, model, states, std::vector<std::int32_t>(p.size(), -1)};
+  for (const auto i : constrained_particles) {
+    c.local[static_cast<std::size_t>(i)] = static_cast<std::int32_t>(particles.size());
+    particles.push_back(i);
+  }
+  constrained.assign(particles.size(), 1);
+  for (const auto o : constrained_particles) {
+    const auto i = static_cast<std::size_t>(o);
+    if (!(model.weighted_volume()[i] > 0.0)) continue;
+    Owner owner = c.owner_of(i);
+    c.add_unknowns(i, owner);
+    owner.last_unknown = static_cast<std::int64_t>(unknowns.size());
+    if (owner.last_unknown == owner.first_unknown) continue;
+    c.add_partners(i);
     owner.last = static_cast<std::int64_t>(partners.size());
     owners.push_back(owner);
   }
 }
+
+namespace {
+
+using Column = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 18, 1>;
+
+/// The columns of J of one bond's λ and ν at its owner and its other end, squared into their
+/// diagonal blocks; the owner's other partners get a scalar share on `scalar` (their columns
+/// are α's and θ's change alone); the owner's θ rows their diagonal.
+void add_bond_columns(StateSystem& sys, std::size_t oi, const Unknown& u, const double sH[3],
+                      const double sG[3], std::vector<double>& scalar) {
+  const auto& o = sys.owners[oi];
+  const int dim = sys.dim, strains = sys.strains;
+  const double n = dim, l2 = u.length * u.length;
+  const double through_theta = n / o.m * (o.kappa + o.Q * o.second / (n * n));
+  Column vo(sys.size), vj(sys.size);
+  // λ: direct V_o G Q |ξ| d^q n, through α: −(Q/m) G |ξ|² d^q (Σ_e V_o |ξ| h w n_e).
+  for (int q = 0; q < strains; ++q)
+    for (int a = 0; a < dim; ++a) {
+      const double direct = o.volume * u.G * o.Q * u.length * u.d[q];
+      const double via = -o.Q / o.m * u.G * l2 * u.d[q];
+      vo[q * dim + a] = direct * u.n[a] + via * sH[a];
+      vj[q * dim + a] = -direct * u.n[a] - via * u.dilatation * u.n[a];
+    }
+  sys.diag[static_cast<std::size_t>(u.owner)] += vo * vo.transpose() / u.weight;
+  sys.diag[static_cast<std::size_t>(u.other)] += vj * vj.transpose() / u.weight;
+  // ν: direct V_o |ξ| h w α^q n, through θ: dθ^q = (n/m) H |ξ|² s^q times
+  // (through_theta Σ V_o |ξ| h w n − (Q/n) Σ V_o |ξ| g w n).
+  double dtheta[6] = {};
+  for (int q = 0; q < strains; ++q) dtheta[q] = n / o.m * u.H * l2 * u.s[q];
+  const double self = through_theta * u.dilatation - o.Q / n * (u.dilatation * u.G / u.H);
+  for (int q = 0; q < strains; ++q)
+    for (int a = 0; a < dim; ++a) {
+      const double direct = u.dilatation * o.alpha[q];
+      vo[q * dim + a] = direct * u.n[a] + dtheta[q] * (through_theta * sH[a] - o.Q / n * sG[a]);
+      vj[q * dim + a] = -direct * u.n[a] - dtheta[q] * self * u.n[a];
+    }
+  sys.diag[static_cast<std::size_t>(u.owner)] += vo * vo.transpose() / u.dilatation_weight;
+  sys.diag[static_cast<std::size_t>(u.other)] += vj * vj.transpose() / u.dilatation_weight;
+  double d2 = 0.0, t2 = 0.0;
+  for (int q = 0; q < strains; ++q) {
+    const double t = o.theta_weight * dtheta[q];
+    sys.theta_diag[oi * static_cast<std::size_t>(strains) + static_cast<std::size_t>(q)] +=
+        t * t / u.dilatation_weight;
+    d2 += u.d[q] * u.d[q], t2 += dtheta[q] * dtheta[q];
+  }
+  sys.touched[static_cast<std::size_t>(u.owner)] = sys.touched[static_cast<std::size_t>(u.other)] =
+      1;
+  for (auto e = o.first; e < o.last; ++e) {
+    const auto& pe = sys.partners[static_cast<std::size_t>(e)];
+    if (pe.local == u.other) continue;
+    const double v = o.Q / o.m * u.G * l2 * pe.coefficient;
+    const double w = through_theta * pe.coefficient - o.Q / n * pe.deviatoric;
+    scalar[static_cast<std::size_t>(pe.local)] +=
+        (d2 * v * v / u.weight + t2 * w * w / u.dilatation_weight) / sys.size;
+    sys.touched[static_cast<std::size_t>(pe.local)] = 1;
+  }
+}
+
+}  // namespace
 
 void StateSystem::diagonal_blocks() {
   const auto blocks = particles.size();
@@ -194,8 +283,6 @@ void StateSystem::diagonal_blocks() {
   theta_diag.assign(owners.size() * static_cast<std::size_t>(strains), 0.0);
   std::vector<double> scalar(blocks, 0.0);
   touched.assign(blocks, 0);
-  const double n = dim;
-  Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 18, 1> vo(size), vj(size);
   for (std::size_t oi = 0; oi < owners.size(); ++oi) {
     const auto& o = owners[oi];
     double sH[3] = {0, 0, 0}, sG[3] = {0, 0, 0};  // Σ_e V_o |ξ| (h w, g w) n_e
@@ -204,60 +291,17 @@ void StateSystem::diagonal_blocks() {
         sH[a] += partners[static_cast<std::size_t>(e)].coefficient * partners[e].n[a];
         sG[a] += partners[static_cast<std::size_t>(e)].deviatoric * partners[e].n[a];
       }
-    const double through_theta = n / o.m * (o.kappa + o.Q * o.second / (n * n));
-    for (auto b = o.first_unknown; b < o.last_unknown; ++b) {
-      const auto& u = unknowns[static_cast<std::size_t>(b)];
-      const double l2 = u.length * u.length;
-      // λ: direct V_o G Q |ξ| d^q n, through α: −(Q/m) G |ξ|² d^q (Σ_e V_o |ξ| h w n_e).
-      vo.setZero(), vj.setZero();
-      for (int q = 0; q < strains; ++q)
-        for (int a = 0; a < dim; ++a) {
-          const double direct = o.volume * u.G * o.Q * u.length * u.d[q];
-          const double via = -o.Q / o.m * u.G * l2 * u.d[q];
-          vo[q * dim + a] = direct * u.n[a] + via * sH[a];
-          vj[q * dim + a] = -direct * u.n[a] - via * u.dilatation * u.n[a];
-        }
-      diag[static_cast<std::size_t>(u.owner)] += vo * vo.transpose() / u.weight;
-      diag[static_cast<std::size_t>(u.other)] += vj * vj.transpose() / u.weight;
-      // ν: direct V_o |ξ| h w α^q n, through θ: dθ^q = (n/m) H |ξ|² s^q times
-      // (through_theta Σ V_o |ξ| h w n − (Q/n) Σ V_o |ξ| g w n).
-      double dtheta[6] = {};
-      for (int q = 0; q < strains; ++q) dtheta[q] = n / o.m * u.H * l2 * u.s[q];
-      vo.setZero(), vj.setZero();
-      for (int q = 0; q < strains; ++q)
-        for (int a = 0; a < dim; ++a) {
-          const double direct = u.dilatation * o.alpha[q];
-          const double self = through_theta * u.dilatation - o.Q / n * (u.dilatation * u.G / u.H);
-          vo[q * dim + a] = direct * u.n[a] + dtheta[q] * (through_theta * sH[a] - o.Q / n * sG[a]);
-          vj[q * dim + a] = -direct * u.n[a] - dtheta[q] * self * u.n[a];
-        }
-      diag[static_cast<std::size_t>(u.owner)] += vo * vo.transpose() / u.dilatation_weight;
-      diag[static_cast<std::size_t>(u.other)] += vj * vj.transpose() / u.dilatation_weight;
-      for (int q = 0; q < strains; ++q) {
-        const double t = o.theta_weight * dtheta[q];
-        theta_diag[oi * static_cast<std::size_t>(strains) + static_cast<std::size_t>(q)] +=
-            t * t / u.dilatation_weight;
-      }
-      touched[static_cast<std::size_t>(u.owner)] = touched[static_cast<std::size_t>(u.other)] = 1;
-      double d2 = 0.0, t2 = 0.0;
-      for (int q = 0; q < strains; ++q) d2 += u.d[q] * u.d[q], t2 += dtheta[q] * dtheta[q];
-      for (auto e = o.first; e < o.last; ++e) {  // the other partners: α's change alone
-        const auto& pe = partners[static_cast<std::size_t>(e)];
-        if (pe.local == u.other) continue;
-        const double v = o.Q / o.m * u.G * l2 * pe.coefficient;
-        const double w = through_theta * pe.coefficient - o.Q / n * pe.deviatoric;
-        scalar[static_cast<std::size_t>(pe.local)] +=
-            (d2 * v * v / u.weight + t2 * w * w / u.dilatation_weight) / size;
-        touched[static_cast<std::size_t>(pe.local)] = 1;
-      }
-    }
+    for (auto b = o.first_unknown; b < o.last_unknown; ++b)
+      add_bond_columns(*this, oi, unknowns[static_cast<std::size_t>(b)], sH, sG, scalar);
   }
   for (std::size_t k = 0; k < blocks; ++k) diag[k].diagonal().array() += scalar[k];
 }
 
-void StateSystem::remove_rigid_parts(const ParticleStore& p) {
-  // Groups: particles linked through an owner (its unknowns reach all its partners).
-  const auto blocks = particles.size();
+namespace {
+
+/// The touched particles in groups linked through an owner (its unknowns reach all its partners).
+std::vector<std::vector<std::size_t>> touched_groups(const StateSystem& sys) {
+  const auto blocks = sys.particles.size();
   std::vector<std::int32_t> root(blocks);
   std::iota(root.begin(), root.end(), 0);
   const auto find = [&](std::int32_t k) {
@@ -266,16 +310,22 @@ void StateSystem::remove_rigid_parts(const ParticleStore& p) {
           root[static_cast<std::size_t>(root[static_cast<std::size_t>(k)])];
     return k;
   };
-  for (const auto& o : owners)
+  for (const auto& o : sys.owners)
     for (auto e = o.first; e < o.last; ++e) {
-      const auto a = find(o.local), b = find(partners[static_cast<std::size_t>(e)].local);
+      const auto a = find(o.local), b = find(sys.partners[static_cast<std::size_t>(e)].local);
       if (a != b) root[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
     }
   std::vector<std::vector<std::size_t>> groups(blocks);
   for (std::size_t k = 0; k < blocks; ++k)
-    if (touched[k])
+    if (sys.touched[k])
       groups[static_cast<std::size_t>(find(static_cast<std::int32_t>(k)))].push_back(k);
-  for (const auto& g : groups) {
+  return groups;
+}
+
+}  // namespace
+
+void StateSystem::remove_rigid_parts(const ParticleStore& p) {
+  for (const auto& g : touched_groups(*this)) {
     if (g.empty()) continue;
     // Each strain's forces over the group, less their translation and rotation (the null space of
     // J W⁻¹ Jᵀ: central pairs change neither the net force nor the net moment).
@@ -315,152 +365,6 @@ void StateSystem::remove_rigid_parts(const ParticleStore& p) {
       }
     }
   }
-}
-
-StateSolver::StateSolver(const StateSystem& sys, double gamma)
-    : sys_(sys), reg_(sys.particles.size()), inv_(sys.particles.size()) {
-  const int n = sys.size;
-  for (std::size_t k = 0; k < sys.particles.size(); ++k) {
-    const Block& D = sys.diag[k];
-    reg_[k] = gamma * (D + (D.trace() / n) * Block::Identity(n, n));
-    inv_[k] = sys.touched[k] ? Block((D + reg_[k]).ldlt().solve(Block::Identity(n, n)))
-                             : Block::Zero(n, n);
-  }
-  theta_reg_.resize(sys.theta_diag.size());
-  for (std::size_t r = 0; r < theta_reg_.size(); ++r)
-    theta_reg_[r] = 2.0 * gamma * sys.theta_diag[r];
-}
-
-void StateSolver::add_forward(const std::vector<double>& x, Eigen::VectorXd& y) const {
-  const int n = sys_.dim, c = sys_.strains;
-  const std::size_t U = sys_.unknowns.size();
-  const double nd = n;
-  for (std::size_t oi = 0; oi < sys_.owners.size(); ++oi) {
-    const auto& o = sys_.owners[oi];
-    double dtheta[6] = {}, dS[6] = {};
-    for (auto b = o.first_unknown; b < o.last_unknown; ++b) {
-      const auto& u = sys_.unknowns[static_cast<std::size_t>(b)];
-      const double l2 = u.length * u.length;
-      const double lambda = x[static_cast<std::size_t>(b)], nu = x[U + static_cast<std::size_t>(b)];
-      for (int q = 0; q < c; ++q) {
-        dtheta[q] += nd / o.m * u.H * nu * l2 * u.s[q];
-        dS[q] += u.G * lambda * l2 * u.d[q];
-      }
-    }
-    double dalpha[6] = {}, dbeta[6] = {};
-    for (int q = 0; q < c; ++q) {
-      dS[q] -= dtheta[q] / nd * o.second;
-      dalpha[q] = nd / o.m * (o.kappa * dtheta[q] - o.Q * dS[q] / nd);
-      dbeta[q] = o.Q * dtheta[q] / nd;
-      y[sys_.theta_row(oi) + q] += o.theta_weight * dtheta[q];
-    }
-    auto yo = sys_.block(y, static_cast<std::size_t>(o.local));
-    for (auto e = o.first; e < o.last; ++e) {
-      const auto& pe = sys_.partners[static_cast<std::size_t>(e)];
-      auto yj = sys_.block(y, static_cast<std::size_t>(pe.local));
-      for (int q = 0; q < c; ++q) {
-        const double t = pe.coefficient * dalpha[q] - pe.deviatoric * dbeta[q];
-        for (int a = 0; a < n; ++a) {
-          yo[q * n + a] += t * pe.n[a];
-          yj[q * n + a] -= t * pe.n[a];
-        }
-      }
-    }
-    for (auto b = o.first_unknown; b < o.last_unknown; ++b) {
-      const auto& u = sys_.unknowns[static_cast<std::size_t>(b)];
-      auto yj = sys_.block(y, static_cast<std::size_t>(u.other));
-      const double lambda = x[static_cast<std::size_t>(b)], nu = x[U + static_cast<std::size_t>(b)];
-      const double deviatoric = o.volume * u.G * lambda * o.Q * u.length;
-      for (int q = 0; q < c; ++q) {
-        const double t = deviatoric * u.d[q] + u.dilatation * nu * o.alpha[q];
-        for (int a = 0; a < n; ++a) {
-          yo[q * n + a] += t * u.n[a];
-          yj[q * n + a] -= t * u.n[a];
-        }
-      }
-    }
-  }
-}
-
-void StateSolver::adjoint(const Eigen::VectorXd& mu, std::vector<double>& g) const {
-  const int n = sys_.dim, c = sys_.strains;
-  const std::size_t U = sys_.unknowns.size();
-  const double nd = n;
-  g.assign(2 * U, 0.0);
-  for (std::size_t oi = 0; oi < sys_.owners.size(); ++oi) {
-    const auto& o = sys_.owners[oi];
-    const auto mo = sys_.block(mu, static_cast<std::size_t>(o.local));
-    double reach[6] = {}, reach_g[6] = {};  // Σ_e V_o |ξ| (h w, g w) n_e · (μ_o^q − μ_e^q)
-    for (auto e = o.first; e < o.last; ++e) {
-      const auto& pe = sys_.partners[static_cast<std::size_t>(e)];
-      const auto mj = sys_.block(mu, static_cast<std::size_t>(pe.local));
-      for (int q = 0; q < c; ++q)
-        for (int a = 0; a < n; ++a) {
-          const double along = pe.n[a] * (mo[q * n + a] - mj[q * n + a]);
-          reach[q] += pe.coefficient * along;
-          reach_g[q] += pe.deviatoric * along;
-        }
-    }
-    // The coefficients of dθ^q and of λ's part of dS^q in ⟨μ, J x⟩.
-    double on_theta[6] = {}, on_S[6] = {};
-    for (int q = 0; q < c; ++q) {
-      on_theta[q] = nd / o.m * (o.kappa + o.Q * o.second / (nd * nd)) * reach[q] -
-                    o.Q / nd * reach_g[q] + o.theta_weight * mu[sys_.theta_row(oi) + q];
-      on_S[q] = -o.Q / o.m * reach[q];
-    }
-    for (auto b = o.first_unknown; b < o.last_unknown; ++b) {
-      const auto& u = sys_.unknowns[static_cast<std::size_t>(b)];
-      const auto mj = sys_.block(mu, static_cast<std::size_t>(u.other));
-      const double l2 = u.length * u.length;
-      double lambda = 0.0, nu = 0.0;
-      for (int q = 0; q < c; ++q) {
-        double along = 0.0;
-        for (int a = 0; a < n; ++a) along += u.n[a] * (mo[q * n + a] - mj[q * n + a]);
-        lambda += u.d[q] * (on_S[q] * u.G * l2 + o.volume * u.G * o.Q * u.length * along);
-        nu += on_theta[q] * nd / o.m * u.H * l2 * u.s[q] + u.dilatation * o.alpha[q] * along;
-      }
-      g[static_cast<std::size_t>(b)] = lambda;
-      g[U + static_cast<std::size_t>(b)] = nu;
-    }
-  }
-}
-
-std::vector<double> StateSolver::factors(const Eigen::VectorXd& mu) const {
-  std::vector<double> g;
-  adjoint(mu, g);
-  const std::size_t U = sys_.unknowns.size();
-  for (std::size_t b = 0; b < U; ++b) {
-    g[b] /= sys_.unknowns[b].weight;
-    g[U + b] /= sys_.unknowns[b].dilatation_weight;
-  }
-  return g;
-}
-
-void StateSolver::apply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
-  y.setZero(x.size());
-  for (std::size_t k = 0; k < sys_.particles.size(); ++k)
-    if (sys_.touched[k]) sys_.block(y, k) = reg_[k] * sys_.block(x, k);
-  const auto rows = static_cast<Eigen::Index>(theta_reg_.size());
-  y.tail(rows) =
-      Eigen::Map<const Eigen::VectorXd>(theta_reg_.data(), rows).cwiseProduct(x.tail(rows));
-  add_forward(factors(x), y);
-}
-
-int StateSolver::solve(Eigen::VectorXd& mu) const {
-  const auto rows = static_cast<Eigen::Index>(theta_reg_.size());
-  const auto precondition = [&](const Eigen::VectorXd& in, Eigen::VectorXd& out) {
-    out.setZero(in.size());
-    for (std::size_t k = 0; k < sys_.particles.size(); ++k)
-      if (sys_.touched[k]) sys_.block(out, k) = inv_[k] * sys_.block(in, k);
-    for (Eigen::Index r = 0; r < rows; ++r) {
-      const auto t = static_cast<std::size_t>(r);
-      const double d = sys_.theta_diag[t] + theta_reg_[t];
-      out[in.size() - rows + r] = d > 0.0 ? in[in.size() - rows + r] / d : 0.0;
-    }
-  };
-  return preconditioned_cg(
-      sys_.rhs, mu, [&](const Eigen::VectorXd& in, Eigen::VectorXd& out) { apply(in, out); },
-      precondition);
 }
 
 }  // namespace dhpd::state_interface_detail
