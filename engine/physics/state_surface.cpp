@@ -71,24 +71,27 @@ std::optional<SymmetricTensor> exact_dilatation_tensor(const BondRows& rows, con
   return out;
 }
 
-}  // namespace
+using Axes = std::array<double, 3>;
 
-SurfaceFactors surface_factors(const BondRows& rows, const ParticleStore& p,
-                               const OrdinaryStateInputs& in, const std::vector<double>& m,
-                               const std::vector<double>& own_weight) {
+/// Each particle's factors: per axis, the dilatation's (d) and the deviatoric term's (b), and the
+/// exact dilatation's tensor scaled by m_i/n (1 inside a lattice) where it exists.
+struct ParticleFactors {
+  std::vector<Axes> dilatation, deviatoric;
+  std::vector<std::optional<SymmetricTensor>> exact;
+};
+
+/// Per particle and axis a, a uniaxial strain ε along a: the continuum's θ = ε and deviatoric
+/// energy G ε² (1 − 1/n) over the particle's own (θ = ε (n/m) Σ w |ξ|² n_a²; e^d = ε |ξ| (n_a² −
+/// 1/n) with θ at its continuum value); and the exact tensor.
+ParticleFactors particle_factors(const BondRows& rows, const ParticleStore& p,
+                                 const OrdinaryStateInputs& in, const std::vector<double>& m,
+                                 const std::vector<double>& own_weight) {
   const int n = in.section.dim;
   const std::size_t count = p.size();
-  using Axes = std::array<double, 3>;
-  std::vector<Axes> dil(count, Axes{1, 1, 1}), dev(count, Axes{1, 1, 1});
-  // The exact dilatation's tensor, scaled by m_i/n (1 inside a lattice), where it exists.
-  std::vector<std::optional<SymmetricTensor>> exact(count);
-  const auto unit = [&](std::size_t i, std::size_t j, double length, int a) {
-    return (p.reference_position[a][j] - p.reference_position[a][i]) / length;
-  };
+  ParticleFactors f{std::vector<Axes>(count, Axes{1, 1, 1}),
+                    std::vector<Axes>(count, Axes{1, 1, 1}),
+                    std::vector<std::optional<SymmetricTensor>>(count)};
   const auto N = static_cast<std::int64_t>(count);
-  // Per particle and axis a, a uniaxial strain ε along a: the continuum's θ = ε and deviatoric
-  // energy G ε² (1 − 1/n) over the particle's own (θ = ε (n/m) Σ w |ξ|² n_a²; e^d = ε |ξ| (n_a² −
-  // 1/n) with θ at its continuum value).
 #pragma omp parallel for schedule(static) if (N >= kParallelMinParticles)
   for (std::int64_t s = 0; s < N; ++s) {
     const auto i = static_cast<std::size_t>(s);
@@ -101,38 +104,52 @@ SurfaceFactors surface_factors(const BondRows& rows, const ParticleStore& p,
       for (auto k = rows.begin(i); k < rows.end(i); ++k) {
         if (!rows.has_own(k)) continue;
         const double length = rows.length(k);
-        const double na = unit(i, static_cast<std::size_t>(rows.other[k]), length, a);
+        const auto j = static_cast<std::size_t>(rows.other[k]);
+        const double na = (p.reference_position[a][j] - p.reference_position[a][i]) / length;
         const double w = own_weight[k] * length * length;
         second += w * na * na;
         deviatoric += w * (na * na - 1.0 / n) * (na * na - 1.0 / n);
       }
       const double theta = n * second / m[i];
-      if (theta > 0.0) dil[i][a] = 1.0 / theta;
+      if (theta > 0.0) f.dilatation[i][a] = 1.0 / theta;
       if (n > 1 && deviatoric > 0.0)
-        dev[i][a] = moduli.shear * (1.0 - 1.0 / n) / (0.5 * Q * deviatoric);
+        f.deviatoric[i][a] = moduli.shear * (1.0 - 1.0 / n) / (0.5 * Q * deviatoric);
     }
-    if (n > 1 && (exact[i] = exact_dilatation_tensor(rows, p, i, n, own_weight)))
-      for (auto& b : *exact[i]) b *= m[i] / n;
+    if (n > 1 && (f.exact[i] = exact_dilatation_tensor(rows, p, i, n, own_weight)))
+      for (auto& b : *f.exact[i]) b *= m[i] / n;
   }
-  // Per entry: the owner's factors read along the bond as an ellipse (ellipsoid): i's for its own
-  // bond, j's for the bond j owns on i (the reaction of j's state, which row j computes the same).
+  return f;
+}
+
+}  // namespace
+
+SurfaceFactors surface_factors(const BondRows& rows, const ParticleStore& p,
+                               const OrdinaryStateInputs& in, const std::vector<double>& m,
+                               const std::vector<double>& own_weight) {
+  const int n = in.section.dim;
+  const auto f = particle_factors(rows, p, in, m, own_weight);
+  // Per entry: the owner's factors read along the bond, the deviatoric ones (and the dilatation
+  // ones without an exact tensor) as an ellipse (ellipsoid): i's for its own bond, j's for the
+  // bond j owns on i (the reaction of j's state, which row j computes the same).
   SurfaceFactors out;
   for (auto* v :
        {&out.own_dilatation, &out.own_deviatoric, &out.dual_dilatation, &out.dual_deviatoric})
     v->assign(rows.flags.size(), 1.0);
-  const auto along = [&](const Axes& f, const double* na) {
+  const auto along = [&](const Axes& axes, const double* na) {
     double sum = 0.0;
-    for (int a = 0; a < n; ++a) sum += (na[a] / f[a]) * (na[a] / f[a]);
+    for (int a = 0; a < n; ++a) sum += (na[a] / axes[a]) * (na[a] / axes[a]);
     return 1.0 / std::sqrt(sum);
   };
-  const auto quadratic = [&](const SymmetricTensor& b, const double* na) {
+  const auto dilatation = [&](std::size_t i, const double* na) {
+    if (!f.exact[i]) return along(f.dilatation[i], na);
     double sum = 0.0;
     for (int q = 0; q < n * (n + 1) / 2; ++q) {
       const auto& ab = kPairs[pair_of(n, q)];
-      sum += b[static_cast<std::size_t>(q)] * na[ab[0]] * na[ab[1]];
+      sum += (*f.exact[i])[static_cast<std::size_t>(q)] * na[ab[0]] * na[ab[1]];
     }
     return sum;
   };
+  const auto N = static_cast<std::int64_t>(p.size());
 #pragma omp parallel for schedule(static) if (N >= kParallelMinParticles)
   for (std::int64_t s = 0; s < N; ++s) {
     const auto i = static_cast<std::size_t>(s);
@@ -140,11 +157,12 @@ SurfaceFactors surface_factors(const BondRows& rows, const ParticleStore& p,
       const auto j = static_cast<std::size_t>(rows.other[k]);
       const double length = rows.length(k);
       double na[3] = {0, 0, 0};
-      for (int a = 0; a < n; ++a) na[a] = unit(i, j, length, a);
-      out.own_dilatation[k] = exact[i] ? quadratic(*exact[i], na) : along(dil[i], na);
-      out.own_deviatoric[k] = along(dev[i], na);
-      out.dual_dilatation[k] = exact[j] ? quadratic(*exact[j], na) : along(dil[j], na);
-      out.dual_deviatoric[k] = along(dev[j], na);
+      for (int a = 0; a < n; ++a)
+        na[a] = (p.reference_position[a][j] - p.reference_position[a][i]) / length;
+      out.own_dilatation[k] = dilatation(i, na);
+      out.own_deviatoric[k] = along(f.deviatoric[i], na);
+      out.dual_dilatation[k] = dilatation(j, na);
+      out.dual_deviatoric[k] = along(f.deviatoric[j], na);
     }
   }
   return out;

@@ -28,11 +28,16 @@ SimulationSetup state_based(SimulationSetup s) {
   return s;
 }
 
-// The pre-cracked plate under equal and opposite tractions: events while the crack runs keep the
-// momentum at round-off and the damage current; the children get their own m (the sum over their
-// own horizons) and the interface factors are solved for each event's rows.
-TEST(StateRefinement, MomentumDamageAndOwnWeightedVolumesThroughAnAdaptiveRun) {
-  Simulation sim(state_based(test::pulled_cracked_plate(1e-3)));
+class StateRefinement : public ::testing::TestWithParam<PartialVolume> {};
+
+// The pre-cracked plate under equal and opposite tractions, with each partial-volume rule: events
+// while the crack runs keep the momentum at round-off and the damage current; the children get
+// their own m (the sum over their own horizons) and the interface factors are solved for each
+// event's rows.
+TEST_P(StateRefinement, MomentumDamageAndOwnWeightedVolumesThroughAnAdaptiveRun) {
+  auto setup = state_based(test::pulled_cracked_plate(1e-3));
+  setup.partial_volume = GetParam();
+  Simulation sim(setup);
   refine::Settings set;
   set.trigger.damage = 0.02;
   set.check_every = 5;
@@ -74,9 +79,13 @@ TEST(StateRefinement, MomentumDamageAndOwnWeightedVolumesThroughAnAdaptiveRun) {
   EXPECT_LT(worst, 1e-13);
 }
 
+INSTANTIATE_TEST_SUITE_P(PartialVolumes, StateRefinement,
+                         ::testing::Values(PartialVolume::None, PartialVolume::Linear,
+                                           PartialVolume::Exact));
+
 using Stepper = test::AdaptiveRun;
 
-TEST(StateRefinement, RestartsBitForBitWithEventsOnBothSides) {
+TEST(StateRefinementRuns, RestartsBitForBitWithEventsOnBothSides) {
   auto setup = state_based(test::pulled_cracked_plate(1e-3));
   setup.resort_fraction = 0.02;
   const auto ev = test::expect_restart_exact<Stepper>(setup, 100, 100);
@@ -108,7 +117,7 @@ std::vector<double> run_with(int threads, std::int64_t& events) {
   return out;
 }
 
-TEST(StateRefinement, AdaptiveRunIsIdenticalWithOneAndTwoThreads) {
+TEST(StateRefinementRuns, AdaptiveRunIsIdenticalWithOneAndTwoThreads) {
   std::int64_t events_one = 0, events_two = 0;
   const auto one = run_with(1, events_one), two = run_with(2, events_two);
   omp_set_num_threads(omp_get_num_procs());
