@@ -36,7 +36,8 @@ Simulation::Discretisation Simulation::begin_edit(std::vector<std::int32_t> ener
     throw InputError(
         "refinement needs per-particle horizons: use model dual-horizon (or classical-variable), "
         "not constant-horizon");
-  // Unchanged rows give the same bits before and after and cancel: only the named rows count.
+  // Unchanged rows give the same bits before and after and cancel: only the named rows count
+  // (bond-based; the state-based energy is the whole body's, θ coupling every row to its partners).
   OpenEdit e;
   e.energy_before = (state_ ? state_->strain_energy(bonds_, p_)
                             : strain_energy_of_rows(bonds_, p_, energy_rows)) +
