@@ -89,7 +89,10 @@ EditOutcome Simulation::commit_edit(const DiscretisationChange& change,
   levels_.reset();  // one global step at the finest particles' dt until relevel()
   inherit_loads(loads_, change.successor, change.predecessor);
   enforce_prescribed_velocity();
-  if (state_)
+  // State-based: θ couples each row to its partners, so every particle's force is new (and gets
+  // its body force again); bond-based: only the rewritten rows'.
+  const bool every_row = state_.has_value();
+  if (every_row)
     state_->forces(bonds_, p_);
   else
     internal_force_density(bonds_, p_, &dirty, nullptr, &kernel_points_);
@@ -97,7 +100,7 @@ EditOutcome Simulation::commit_edit(const DiscretisationChange& change,
   for (const auto i : dirty) touched_[static_cast<std::size_t>(i)] = 1;
   const double lambda = load_factor();  // 1 in dynamics
   for (std::size_t k = 0; k < loads_.loaded.size(); ++k)
-    if (touched_[static_cast<std::size_t>(loads_.loaded[k])])
+    if (every_row || touched_[static_cast<std::size_t>(loads_.loaded[k])])
       for (int a = 0; a < p_.dim(); ++a)
         p_.force_density[a][loads_.loaded[k]] += lambda * loads_.body_force[k][a];
   for (const auto i : dirty) touched_[static_cast<std::size_t>(i)] = 0;

@@ -151,6 +151,15 @@ TEST(RefinementIncremental, ThreeDimensionalEventsEqualFromScratch) {
   std::printf("3D incremental = scratch: %zu bonds compared\n", compared);
 }
 
+/// (id, f_y) of every particle, by id.
+std::vector<std::pair<std::int32_t, double>> forces_by_id(const Simulation& x) {
+  const auto& q = x.particles();
+  std::vector<std::pair<std::int32_t, double>> f;
+  for (std::size_t i = 0; i < q.size(); ++i) f.emplace_back(q.id[i], q.force_density[1][i]);
+  std::sort(f.begin(), f.end());
+  return f;
+}
+
 TEST(RefinementIncremental, ResortKeepsEveryBondAndTheForces) {
   auto s = test::pulled_cracked_plate(1e-3);
   s.resort_fraction = 0.0;
@@ -168,13 +177,7 @@ TEST(RefinementIncremental, ResortKeepsEveryBondAndTheForces) {
     std::sort(rows.begin(), rows.end());
     return rows;
   };
-  auto forces = [](const Simulation& x) {
-    const auto& q = x.particles();
-    std::vector<std::pair<std::int32_t, double>> f;
-    for (std::size_t i = 0; i < q.size(); ++i) f.emplace_back(q.id[i], q.force_density[1][i]);
-    std::sort(f.begin(), f.end());
-    return f;
-  };
+  const auto forces = forces_by_id;
   const auto rows_before = by_id(sim);
   const auto f_before = forces(sim);
   const auto broken = sim.broken_bonds();
@@ -195,6 +198,37 @@ TEST(RefinementIncremental, ResortKeepsEveryBondAndTheForces) {
       p.size(), 1e3 * seconds, static_cast<long long>(arena_before),
       static_cast<long long>(sim.bonds().rows.arena), worst / scale);
   EXPECT_LE(worst, 1e-12 * scale);
+}
+
+}  // namespace
+}  // namespace dhpd
+
+namespace dhpd {
+namespace {
+
+// The ordinary state-based family's events recompute every particle's internal force (θ couples
+// each row to its partners): the forces they leave, the loads' body forces included on particles
+// the event did not touch, are those of a pass from scratch (the re-sort's).
+TEST(RefinementIncremental, StateBasedEventsLeaveTheForcesOfAFullPass) {
+  auto s = test::pulled_cracked_plate(1e-3);
+  s.family = ModelFamily::OrdinaryState;
+  for (auto& m : s.materials) m.nu = 0.3;
+  s.resort_fraction = 0.0;
+  Simulation sim(s);
+  sim.run_steps(20);
+  std::mt19937 rng(3);
+  refine::split(sim, random_parents(sim, rng, 0.004, 1));
+  const auto after_event = forces_by_id(sim);
+  sim.compact();  // renumbers and computes every force again
+  const auto full = forces_by_id(sim);
+  double worst = 0.0, scale = 0.0;
+  ASSERT_EQ(after_event.size(), full.size());
+  for (std::size_t k = 0; k < full.size(); ++k) {
+    ASSERT_EQ(after_event[k].first, full[k].first);
+    worst = std::max(worst, std::abs(after_event[k].second - full[k].second));
+    scale = std::max(scale, std::abs(full[k].second));
+  }
+  EXPECT_LE(worst, 1e-12 * scale) << worst / scale;
 }
 
 }  // namespace
