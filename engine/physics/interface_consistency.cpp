@@ -221,24 +221,18 @@ System<C> assemble(const BondRows& b, const ParticleStore& p, PartialVolume rule
 template <int C>
 void solve_and_write(const System<C>& sys, BondRows& b, InterfaceCorrection& out) {
   if (b.factor.empty()) b.factor.assign(static_cast<std::size_t>(b.rows.arena), 1.0f);
-  std::vector<double> lambda;
-  for (const double gamma : {1e-3, 1e-1}) {
+  const auto solve = [&](double gamma, std::vector<double>& lambda) {
     BlockSolver<C> solver(sys, gamma);
     Eigen::VectorXd x;
-    out.iterations += solver.solve(x);
+    const int iterations = solver.solve(x);
     lambda = solver.factors(x);
-    const auto outside = std::count_if(lambda.begin(), lambda.end(), [](double l) {
-      return l < kSmallestFactor - 1.0 || l > kLargestFactor - 1.0;
-    });
-    if (static_cast<double>(outside) <= kClippedShare * static_cast<double>(lambda.size())) break;
-  }
-  for (std::size_t e = 0; e < sys.terms.size(); ++e) {
-    const double clipped = std::clamp(lambda[e], kSmallestFactor - 1.0, kLargestFactor - 1.0);
-    out.clipped += clipped != lambda[e] ? 1 : 0;
-    b.factor[static_cast<std::size_t>(sys.bond[e])] = static_cast<float>(1.0 + clipped);
-    out.smallest = std::min(out.smallest, 1.0 + clipped);
-    out.largest = std::max(out.largest, 1.0 + clipped);
-  }
+    return iterations;
+  };
+  const auto lambda =
+      least_damped_changes({1e-3, 1e-1}, kSmallestFactor, kLargestFactor, solve, out.iterations);
+  for (std::size_t e = 0; e < sys.terms.size(); ++e)
+    b.factor[static_cast<std::size_t>(sys.bond[e])] =
+        static_cast<float>(clipped_factor(lambda[e], kSmallestFactor, kLargestFactor, out));
 }
 
 template <int C>
@@ -272,13 +266,15 @@ std::vector<std::int32_t> reset_interface_region(BondRows& b, const ParticleStor
   auto particle = [&](std::size_t k) {
     return in.all() ? static_cast<std::int32_t>(k) : region[k];
   };
-  if (!b.factor.empty())
+  for (auto* factors : {&b.factor, &b.dilatation_factor}) {
+    if (factors->empty()) continue;
     for (std::size_t k = 0; k < n; ++k) {  // reset the factors inside the region
       const auto i = static_cast<std::size_t>(particle(k));
       for_each_own_bond(b, i, [&](std::int64_t e, std::size_t j) {
-        if (in.has(static_cast<std::int32_t>(j))) b.factor[e] = 1.0f;
+        if (in.has(static_cast<std::int32_t>(j))) (*factors)[static_cast<std::size_t>(e)] = 1.0f;
       });
     }
+  }
   HorizonTests tests(b, p, rule);
   std::vector<std::int32_t> constrained;
   for (std::size_t k = 0; k < n; ++k)

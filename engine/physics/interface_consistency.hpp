@@ -2,8 +2,10 @@
 // force dual-horizon PD puts on particles near a horizon jump under any homogeneous deformation,
 // while every bond force stays a pair of equal and opposite forces (momentum stays exact).
 #pragma once
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <initializer_list>
 #include <vector>
 
 #include "engine/discretization/bonds.hpp"
@@ -27,6 +29,33 @@ inline constexpr double kSmallestFactor = 0.5, kLargestFactor = 2.0;
 /// The share of factors that may be clipped before the solve is damped further.
 inline constexpr double kClippedShare = 0.01;
 
+/// The factor changes λ of the weakest Tikhonov weight in `dampings` whose λ leave [smallest − 1,
+/// largest − 1] for at most kClippedShare of them, else of the last (docs/theory.md §14, §20.6):
+/// solve(γ, λ) sets λ and returns its iterations, which are added to `iterations`.
+template <class Solve>
+std::vector<double> least_damped_changes(std::initializer_list<double> dampings, double smallest,
+                                         double largest, Solve&& solve, int& iterations) {
+  std::vector<double> lambda;
+  for (const double gamma : dampings) {
+    iterations += solve(gamma, lambda);
+    const auto outside = std::count_if(lambda.begin(), lambda.end(), [&](double l) {
+      return l < smallest - 1.0 || l > largest - 1.0;
+    });
+    if (static_cast<double>(outside) <= kClippedShare * static_cast<double>(lambda.size())) break;
+  }
+  return lambda;
+}
+
+/// 1 + λ clipped to [smallest, largest], counted in `out` (clipped factors, range).
+inline double clipped_factor(double lambda, double smallest, double largest,
+                             InterfaceCorrection& out) {
+  const double factor = std::clamp(1.0 + lambda, smallest, largest);
+  out.clipped += factor != 1.0 + lambda ? 1 : 0;
+  out.smallest = std::min(out.smallest, factor);
+  out.largest = std::max(out.largest, factor);
+  return factor;
+}
+
 /// Horizons whose ratio reaches this are a jump (refinement levels: 2; a mesh's neighbours: less).
 inline constexpr double kHorizonJumpRatio = 1.5;
 /// A horizon is complete (no free surface or pre-crack inside it) when the first moment of its
@@ -37,7 +66,8 @@ inline double complete_horizon_moment(int dim) {
   return dim == 1 ? 0.25 : 0.15;
 }
 
-/// Resets the factors (rows.factor, when allocated) of the own bonds with both ends in `region`
+/// Resets the factors (rows.factor and rows.dilatation_factor, when allocated) of the own bonds
+/// with both ends in `region`
 /// (sorted particle indices; every particle when empty) to 1 and returns the region's constrained
 /// particles, in order: those with a bond (own or dual) across a horizon jump, or bonded to such a
 /// particle, whose own horizon and whose partners' horizons are complete (docs/theory.md (14.3)).

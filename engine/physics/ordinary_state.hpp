@@ -13,6 +13,18 @@
 
 namespace dhpd {
 
+/// Independent components of a symmetric strain in n dimensions: xx, yy, xy (2D); xx, yy, zz, xy,
+/// xz, yz (3D); x (1D).
+inline int strain_count(int n) {
+  return n * (n + 1) / 2;
+}
+/// The axes (a, b) of strain component q in n dimensions.
+inline void strain_axes(int n, int q, int& a, int& b) {
+  static constexpr int kPairs[6][2] = {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {0, 2}, {1, 2}};
+  const int k = n == 2 && q == 2 ? 3 : q;
+  a = kPairs[k][0], b = kPairs[k][1];
+}
+
 /// ω of the bond from an owner of horizon `owner_horizon` at reference length |ξ| (§20.1).
 inline double influence_of(Influence w, double owner_horizon, double length) {
   return w == Influence::Constant ? 1.0 : owner_horizon / length;

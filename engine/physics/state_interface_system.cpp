@@ -9,15 +9,6 @@
 
 namespace dhpd::state_interface_detail {
 
-namespace {
-/// (a, b) of strain component q in n dimensions.
-void axes_of(int n, int q, int& a, int& b) {
-  static constexpr int kPairs[6][2] = {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {0, 2}, {1, 2}};
-  const int k = n == 2 && q == 2 ? 3 : q;
-  a = kPairs[k][0], b = kPairs[k][1];
-}
-}  // namespace
-
 EntryShape shape_of(const BondRows& rows, const ParticleStore& p, std::size_t i, std::int64_t k) {
   const int n = p.dim();
   EntryShape s;
@@ -27,7 +18,7 @@ EntryShape shape_of(const BondRows& rows, const ParticleStore& p, std::size_t i,
     s.n[a] = (p.reference_position[a][j] - p.reference_position[a][i]) / s.length;
   for (int q = 0; q < strain_count(n); ++q) {
     int a = 0, b = 0;
-    axes_of(n, q, a, b);
+    strain_axes(n, q, a, b);
     s.stretch[q] = s.n[a] * s.n[b];
   }
   return s;

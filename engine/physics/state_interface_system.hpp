@@ -15,12 +15,6 @@
 
 namespace dhpd::state_interface_detail {
 
-/// Independent components of a symmetric strain in n dimensions: xx, yy, xy (2D); xx, yy, zz, xy,
-/// xz, yz (3D).
-inline int strain_count(int n) {
-  return n * (n + 1) / 2;
-}
-
 /// Reference shape of entry k of row i: unit vector n from i to the other, |ξ|, and n·ε^q·n for
 /// each unit strain ε^q (ε_ab = ε_ba = ½ off the diagonal).
 struct EntryShape {

@@ -69,27 +69,22 @@ void solve_and_write(const StateSystem& sys, BondRows& rows, InterfaceCorrection
   const auto arena = static_cast<std::size_t>(rows.rows.arena);
   if (rows.factor.empty()) rows.factor.assign(arena, 1.0f);
   if (rows.dilatation_factor.empty()) rows.dilatation_factor.assign(arena, 1.0f);
-  std::vector<double> x;
-  for (const double gamma : {kStateDamping, 1e-1}) {
+  const auto solve = [&](double gamma, std::vector<double>& x) {
     StateSolver solver(sys, gamma);
     Eigen::VectorXd mu;
-    out.iterations += solver.solve(mu);
+    const int iterations = solver.solve(mu);
     x = solver.factors(mu);
-    const auto outside = std::count_if(x.begin(), x.end(), [](double l) {
-      return l < kSmallestStateFactor - 1.0 || l > kLargestStateFactor - 1.0;
-    });
-    if (static_cast<double>(outside) <= kClippedShare * static_cast<double>(x.size())) break;
-  }
+    return iterations;
+  };
+  auto x = least_damped_changes({kStateDamping, 1e-1}, kSmallestStateFactor, kLargestStateFactor,
+                                solve, out.iterations);
   keep_dilatations(sys, x);
   const std::size_t U = sys.unknowns.size();
   for (std::size_t b = 0; b < x.size(); ++b) {
-    const double clipped = std::clamp(x[b], kSmallestStateFactor - 1.0, kLargestStateFactor - 1.0);
-    out.clipped += clipped != x[b] ? 1 : 0;
-    x[b] = clipped;
+    const double factor = clipped_factor(x[b], kSmallestStateFactor, kLargestStateFactor, out);
+    x[b] = std::clamp(x[b], kSmallestStateFactor - 1.0, kLargestStateFactor - 1.0);  // for F + J x
     const auto entry = static_cast<std::size_t>(sys.unknowns[b % U].entry);
-    (b < U ? rows.factor : rows.dilatation_factor)[entry] = static_cast<float>(1.0 + clipped);
-    out.smallest = std::min(out.smallest, 1.0 + clipped);
-    out.largest = std::max(out.largest, 1.0 + clipped);
+    (b < U ? rows.factor : rows.dilatation_factor)[entry] = static_cast<float>(factor);
   }
   // What is left at the constrained particles: F + J x (linear in x but for the product of ν
   // with λ's change of α, a second-order term).
@@ -108,18 +103,6 @@ InterfaceCorrection correct_state_interfaces(BondRows& rows, const ParticleStore
                                              const std::vector<std::int32_t>& region,
                                              std::optional<OrdinaryState>* built) {
   InterfaceCorrection out;
-  // reset_interface_region resets φ; ψ likewise, for the own bonds with both ends in the region.
-  if (!rows.dilatation_factor.empty()) {
-    std::vector<std::uint8_t> member(region.empty() ? 0 : p.size(), 0);
-    for (const auto i : region) member[static_cast<std::size_t>(i)] = 1;
-    const auto inside = [&](std::size_t i) { return region.empty() || member[i] != 0; };
-    for (std::size_t i = 0; i < p.size(); ++i) {
-      if (!inside(i)) continue;
-      for (auto k = rows.begin(i); k < rows.end(i); ++k)
-        if (rows.has_own(k) && inside(static_cast<std::size_t>(rows.other[k])))
-          rows.dilatation_factor[static_cast<std::size_t>(k)] = 1.0f;
-    }
-  }
   const auto constrained = reset_interface_region(rows, p, in.rule, region);
   OrdinaryState model(rows, p, in);  // the region's factors at 1, the others kept
   if (!constrained.empty()) {

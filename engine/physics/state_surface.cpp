@@ -11,15 +11,8 @@
 namespace dhpd {
 namespace {
 
-/// Up to six components of a symmetric tensor: (0,0), (1,1), (2,2), (0,1), (0,2), (1,2), the first
-/// n(n+1)/2 of them in n dimensions (2D: xx, yy, xy).
-constexpr int kPairs[6][2] = {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {0, 2}, {1, 2}};
-int pair_of(int n, int k) {
-  return n == 2 && k == 2 ? 3 : k;
-}  // 2D: xx, yy, xy
-
-/// A symmetric tensor as its n(n+1)/2 components (off-diagonals counted twice): n·B·n = Σ_k b_k
-/// n_a n_b.
+/// A symmetric tensor as its strain_count(n) components (off-diagonals counted twice): n·B·n =
+/// Σ_k b_k n_a n_b.
 using SymmetricTensor = std::array<double, 6>;
 
 /// B_i of the exact dilatation (docs/theory.md §20.5): Σ_j w |ξ|² (n·B·n) n⊗n = I over i's own
@@ -29,7 +22,7 @@ using SymmetricTensor = std::array<double, 6>;
 std::optional<SymmetricTensor> exact_dilatation_tensor(const BondRows& rows, const ParticleStore& p,
                                                        std::size_t i, int n,
                                                        const std::vector<double>& own_weight) {
-  const int c = n * (n + 1) / 2;
+  const int c = strain_count(n);
   using Matrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>;
   using Vector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1>;
   Matrix A = Matrix::Zero(c, c);
@@ -41,8 +34,9 @@ std::optional<SymmetricTensor> exact_dilatation_tensor(const BondRows& rows, con
     for (int a = 0; a < n; ++a)
       na[a] = (p.reference_position[a][j] - p.reference_position[a][i]) / length;
     for (int q = 0; q < c; ++q) {
-      const auto& ab = kPairs[pair_of(n, q)];
-      out[q] = na[ab[0]] * na[ab[1]];
+      int a = 0, b = 0;
+      strain_axes(n, q, a, b);
+      out[q] = na[a] * na[b];
     }
   };
   for (auto k = rows.begin(i); k < rows.end(i); ++k) {
@@ -143,9 +137,10 @@ SurfaceFactors surface_factors(const BondRows& rows, const ParticleStore& p,
   const auto dilatation = [&](std::size_t i, const double* na) {
     if (!f.exact[i]) return along(f.dilatation[i], na);
     double sum = 0.0;
-    for (int q = 0; q < n * (n + 1) / 2; ++q) {
-      const auto& ab = kPairs[pair_of(n, q)];
-      sum += (*f.exact[i])[static_cast<std::size_t>(q)] * na[ab[0]] * na[ab[1]];
+    for (int q = 0; q < strain_count(n); ++q) {
+      int a = 0, b = 0;
+      strain_axes(n, q, a, b);
+      sum += (*f.exact[i])[static_cast<std::size_t>(q)] * na[a] * na[b];
     }
     return sum;
   };
