@@ -175,6 +175,8 @@ void Simulation::compute_forces(bool with_fracture, std::vector<double>* row_ene
       // Breaks first: the dilatation sums the bonds left (docs/theory.md §20.4).
       if (with_fracture) broken_ += break_bonds(bonds_, p_, bond_constants());
       state_->forces(bonds_, p_);
+    } else if (share_) {
+      distributed_forces(with_fracture, row_energy, side);
     } else if (with_fracture)
       broken_ += force_and_break(bonds_, p_, bond_constants(), row_energy, &kernel_points_, side);
     else
@@ -189,6 +191,20 @@ void Simulation::compute_forces(bool with_fracture, std::vector<double>* row_ene
 
 void Simulation::step(StepExtras extras) {
   std::int64_t evaluated = bonds_.own_bonds;  // directed bonds evaluated by the step
+  if (share_) {
+    if (share_->comm().root())
+      share_->announce(extras.strain_energy ? distributed::Command::StepWithEnergy
+                                            : distributed::Command::Step);
+    if (share_->policy() == distributed::RepartitionPolicy::Steps) {
+      // A row's bond states are current only on its owner: every rank takes them before any
+      // row changes owner (all ranks are here: no announcement).
+      if (!bonds_shared_) share_->share_bond_states(bonds_, bond_constants());
+      bonds_shared_ = true;
+      const auto in = partition_input();
+      share_->repartition(p_.dim(), in.xyz, in.weight, in.id);
+    }
+    bonds_shared_ = bonds_shared_ && !setup_.effects.fracture;  // this step's pass breaks bonds
+  }
   if (setup_.statics) {
     finish_step(static_step(extras));
     time_ = load_factor();  // k / load_steps exactly, not a sum of steps
@@ -340,8 +356,12 @@ Energies Simulation::energies() {
     e.strain = correspondence_->strain_energy(bonds_, p_);
   else if (state_)
     e.strain = state_->strain_energy(bonds_, p_);
-  else
-    e.strain = strain_energy_from_step() ? fused_energy_.strain : strain_energy_total(bonds_, p_);
+  else if (strain_energy_from_step())
+    e.strain = fused_energy_.strain;
+  else {
+    share_bond_states();
+    e.strain = strain_energy_total(bonds_, p_);
+  }
   e.external_work = external_work_;
   e.verlet_correction = levels_ ? multirate_correction() : sums.correction;
   return e;

@@ -10,6 +10,7 @@
 #include "engine/discretization/bonds.hpp"
 #include "engine/discretization/particles.hpp"
 #include "engine/discretization/section.hpp"
+#include "engine/distributed/force_share.hpp"
 #include "engine/physics/correspondence.hpp"
 #include "engine/physics/fictitious_layer.hpp"
 #include "engine/physics/force_kernel.hpp"
@@ -288,6 +289,32 @@ class Simulation {
   };
   const LevelCounts& level_counts() const { return level_counts_; }
 
+  /// Distributed run (docs/theory.md §25): every rank holds this whole simulation (built from the
+  /// same setup) and steps every particle; Zoltan gives each rank the rows whose force pass it
+  /// computes, and the results are shared after each pass. Collective; throws InputError for what
+  /// does not run on several ranks yet (refinement, multi-rate stepping, statics, fictitious
+  /// layers, the state-based families), naming the scene key.
+  void distribute(
+      std::shared_ptr<const distributed::Communicator> comm, distributed::PartitionMethod method,
+      distributed::RepartitionPolicy policy = distributed::RepartitionPolicy::Imbalance);
+  /// The decomposition (null for a run on one rank).
+  const distributed::ForceShare* force_share() const { return share_.get(); }
+  /// Whether this process writes the run's outputs (rank 0, or the only process).
+  bool leads() const { return !share_ || share_->comm().root(); }
+  /// Ranks other than 0: do what rank 0 announces (steps, sharing bond states, `edit`) until it
+  /// releases them. An InstabilityError of a step is rank 0's to report: it is met there too, and
+  /// this rank keeps serving until released.
+  void serve(const std::function<void()>& edit = {});
+  /// Rank 0, before an edit that every rank makes the same way (a refinement check: the other
+  /// ranks run their `edit` of serve): the bond states are shared, then the edit announced.
+  void announce_edit();
+  /// Rank 0: the other ranks' serve() returns (the first call; later ones do nothing).
+  void release_ranks();
+  /// Every row's bond states from the rank that owns the row (rank 0 announces it), for what
+  /// reads the bond states of every row (checkpoints, the guard's copy, the strain energy from
+  /// the rows); nothing when they are current or the run is not distributed.
+  void share_bond_states();
+
  private:
   friend struct CheckpointAccess;  ///< engine/checkpoint.cpp: archives every member below
   void init_particles();
@@ -298,6 +325,15 @@ class Simulation {
   void update_bond_constants(const std::vector<std::int32_t>& slots);
   /// The ordinary state-based constants of the current rows (family OrdinaryState only).
   void build_state_model();
+  /// Positions (3 per slot), work weights and ids of the particles, for the partitioner.
+  struct PartitionInput {
+    std::vector<double> xyz, weight;
+    std::vector<std::int32_t> id;
+  };
+  PartitionInput partition_input() const;
+  /// The force pass of this rank's rows, then every rank gets their results (§25.1).
+  void distributed_forces(bool with_fracture, std::vector<double>* row_energy,
+                          const SideTask* side);
   /// What the ordinary state-based constants are built from (any family: the correspondence
   /// model takes the same).
   OrdinaryStateInputs state_inputs() const;
@@ -427,14 +463,15 @@ class Simulation {
   double lanczos_dt_ = 0.0, lanczos_bound_ = 0.0;
   double external_work_ = 0.0, last_power_ = 0.0;
   EnergyBudget budget_;
-  bool conservative_ = true;            ///< the model conserves energy (not classical-variable)
-  double blowup_factor_ = 2.0;          ///< plain energy above this × the balance is a blow-up
-  std::vector<double> kinetic_blocks_;  ///< guard scratch
-  kernel::PackedPoints kernel_points_;  ///< force kernel scratch (kernel::pack_points)
-  std::optional<TimeLevels> levels_;    ///< multi-rate plans (derived from the state)
-  std::int64_t level_evaluations_ = 0;  ///< directed bonds the current dt₀ step evaluated
-  LevelCounts level_counts_;            ///< not archived: this process's steps
-  std::vector<double> load_start_;      ///< multirate_step scratch: loaded displacements
+  bool conservative_ = true;              ///< the model conserves energy (not classical-variable)
+  double blowup_factor_ = 2.0;            ///< plain energy above this × the balance is a blow-up
+  std::vector<double> kinetic_blocks_;    ///< guard scratch
+  kernel::PackedPoints kernel_points_;    ///< force kernel scratch (kernel::pack_points)
+  std::optional<TimeLevels> levels_;      ///< multi-rate plans (derived from the state)
+  std::int64_t level_evaluations_ = 0;    ///< directed bonds the current dt₀ step evaluated
+  LevelCounts level_counts_;              ///< not archived: this process's steps
+  std::vector<double> load_start_;        ///< multirate_step scratch: loaded displacements
+  std::vector<std::int32_t> level_rows_;  ///< level_forces scratch: this rank's rows of a level
   /// The strain energy a step's force pass computed, valid while steps_, generation_ and
   /// layout_version_ are still those it was computed at (not part of the state).
   struct FusedEnergy {
@@ -455,6 +492,9 @@ class Simulation {
   bool has_time_functions_ = false;     ///< a prescribed component is a function of time
   std::int32_t next_id_ = 0;
   InterfaceCorrection initial_interfaces_;
+  std::unique_ptr<distributed::ForceShare> share_;  ///< not archived: this launch's ranks
+  bool bonds_shared_ = true;  ///< every row's bond states are current on this rank
+  bool released_ = false;     ///< rank 0 has let the other ranks go
 };
 
 }  // namespace dhpd

@@ -120,6 +120,10 @@ EditOutcome Simulation::commit_edit(const DiscretisationChange& change,
   out.shadow_change = out.energy_change - (verlet_correction() - edit_->correction_before);
   budget_.mapping += out.shadow_change;
   edit_.reset();
+  if (share_) {  // every rank runs the same edit: the new particles get owners (§25.3)
+    const auto in = partition_input();
+    share_->after_edit(change.old_size, p_.dim(), in.xyz, in.weight, in.id);
+  }
   return out;
 }
 
@@ -158,6 +162,7 @@ void Simulation::renumber() {
   particle_time_steps(bonds_, p_, particle_dt_);
   renumber_loads(loads_, new_index);
   touched_.assign(n, 0);
+  if (share_) share_->renumbered(order);
   compute_forces();
   if (setup_.effects.fracture) compute_damage(bonds_, p_, setup_.partial_volume);
   plan_levels();

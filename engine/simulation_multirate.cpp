@@ -150,9 +150,19 @@ void Simulation::level_forces(int l, bool fracture, const SideTask* side) {
   {
     auto t = timers_.scope(Phase::Forces);
     const auto constants = bond_constants();
-    broken_ += segment_forces(bonds_, p_, fracture ? &constants : nullptr,
-                              {plan.rows, plan.start.data(), plan.count.data(), plan.force},
-                              kernel_points_.xyzv, side);
+    if (share_) {  // this rank's rows of the level, then every rank gets them (§25.1)
+      share_->owned_of(plan.rows, level_rows_);
+      const auto broke =
+          segment_forces(bonds_, p_, fracture ? &constants : nullptr,
+                         {level_rows_, plan.start.data(), plan.count.data(), plan.force},
+                         kernel_points_.xyzv, side);
+      broken_ += share_->share_rows(plan.rows, p_.dim(), plan.force,
+                                    fracture ? &p_.damage : nullptr, broke);
+    } else {
+      broken_ += segment_forces(bonds_, p_, fracture ? &constants : nullptr,
+                                {plan.rows, plan.start.data(), plan.count.data(), plan.force},
+                                kernel_points_.xyzv, side);
+    }
     level_evaluations_ += plan.own_bonds;
     if (static_cast<std::size_t>(l) < level_counts_.evaluated.size())
       level_counts_.evaluated[static_cast<std::size_t>(l)] += plan.own_bonds;

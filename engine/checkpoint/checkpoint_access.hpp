@@ -181,6 +181,14 @@ struct CheckpointAccess {
   /// `saved_start`, the step was saved from rows laid out at those starts (an arena with room
   /// between rows, as events leave it) and `s` holds the same rows packed (a whole state loaded):
   /// the flags are packed to fit.
+  /// plan_levels of a state this process alone loads (rank 0 restoring the guard's copy of a
+  /// distributed run: no other rank takes part, so the level forces are computed here whole).
+  static void plan_levels_alone(Simulation& s) {
+    auto share = std::move(s.share_);
+    s.plan_levels();
+    s.share_ = std::move(share);
+  }
+
   static void load_step(Simulation& s, archive::Reader& ar,
                         const std::vector<std::int64_t>* saved_start = nullptr) {
     load_fields(s, ar, true);
@@ -195,7 +203,8 @@ struct CheckpointAccess {
     s.touched_.assign(s.p_.size(), 0);
     s.edit_.reset();
     s.fused_energy_ = {};
-    s.plan_levels();  // the level forces of the restored positions
+    s.bonds_shared_ = true;  // a saved state holds every row's bond states
+    plan_levels_alone(s);    // the level forces of the restored positions
   }
 
   /// The flags of rows that started at `start` (each row's count as now), packed back to back.
@@ -238,10 +247,11 @@ struct CheckpointAccess {
     s.touched_.assign(s.p_.size(), 0);
     s.edit_.reset();
     s.fused_energy_ = {};
+    s.bonds_shared_ = true;
     // Damage follows from the flags (the stepper keeps it current between steps).
     if (s.setup_.effects.fracture) compute_damage(s.bonds_, s.p_, s.setup_.partial_volume);
     s.build_state_model();  // derived from the rebuilt rows
-    s.plan_levels();        // derived: the levels, their plans and forces (docs/theory.md §19)
+    plan_levels_alone(s);   // derived: the levels, their plans and forces (docs/theory.md §19)
   }
 
   template <class V>

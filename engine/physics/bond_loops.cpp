@@ -63,13 +63,11 @@ std::int64_t force_rows(const BondRows& rows, const kernel::Breaking& w, Particl
       if (broke) damage_of(*w.rows, p, w.constants->rule, static_cast<std::size_t>(i));
     return broke;
   };
+  // A subset (an event's rows, a rank's share of a distributed run) in its order; rows are
+  // independent, so large subsets take the thread team as the whole store does.
   std::int64_t broken = 0;
-  if (subset) {
-    if (has_side) (*side)();
-    for (const auto i : *subset) broken += force_row(i);
-    return broken;
-  }
-  const auto n = static_cast<std::int64_t>(p.size());
+  const auto n = static_cast<std::int64_t>(subset ? subset->size() : p.size());
+  const std::int32_t* slots = subset ? subset->data() : nullptr;
 #pragma omp parallel reduction(+ : broken) if (n >= kParallelMinParticles)
   {
     if (has_side) {
@@ -77,7 +75,7 @@ std::int64_t force_rows(const BondRows& rows, const kernel::Breaking& w, Particl
       (*side)();
     }
 #pragma omp for schedule(dynamic, 512) nowait
-    for (std::int64_t i = 0; i < n; ++i) broken += force_row(i);
+    for (std::int64_t t = 0; t < n; ++t) broken += force_row(slots ? slots[t] : t);
   }
   return broken;
 }
@@ -178,10 +176,10 @@ void internal_force_density(const BondRows& b, ParticleStore& p,
 
 std::int64_t force_and_break(BondRows& b, ParticleStore& p, const BondConstants& c,
                              std::vector<double>* row_energy, kernel::PackedPoints* points,
-                             const SideTask* side) {
+                             const SideTask* side, const std::vector<std::int32_t>* rows) {
   const kernel::Breaking w{&b, &c};
   return with_dim(p.dim(), [&](auto d) {
-    return force_rows_with<d(), true>(b, w, p, nullptr, row_energy, points, side);
+    return force_rows_with<d(), true>(b, w, p, rows, row_energy, points, side);
   });
 }
 

@@ -32,11 +32,12 @@ void internal_force_density(const BondRows& bonds, ParticleStore& p,
 /// damage stays current as long as edits recompute it (Simulation does). Returns the number of
 /// bonds broken by this call. `c` describes the same rows and particles. With `row_energy`, as
 /// internal_force_density: the row sums after the pass's breaks. Both run `side` (when given and
-/// not empty) once, on one thread of the pass (SideTask).
+/// not empty) once, on one thread of the pass (SideTask). With `rows`, only those particles' rows
+/// (a rank's share of a distributed run: docs/theory.md §25.1).
 std::int64_t force_and_break(BondRows& bonds, ParticleStore& p, const BondConstants& c,
                              std::vector<double>* row_energy = nullptr,
-                             kernel::PackedPoints* points = nullptr,
-                             const SideTask* side = nullptr);
+                             kernel::PackedPoints* points = nullptr, const SideTask* side = nullptr,
+                             const std::vector<std::int32_t>* rows = nullptr);
 
 /// The break test alone (no forces), for the state-based family, whose forces need every
 /// particle's dilatation after the breaks: each intact bond whose stretch reached its owner's s0

@@ -53,7 +53,8 @@ inline bool wall_clock_key(const std::string& key) {
   return key == "wall_seconds" || key == "bond_updates_per_second" ||
          key == "particle_steps_per_second" || key == "seconds_per_phase" ||
          key == "command_line" || key == "peak_memory_mb" || key == "allocated_bytes" ||
-         key == "bytes_per_particle" || key == "bytes_per_directed_bond";
+         key == "bytes_per_particle" || key == "bytes_per_directed_bond" || key == "threads" ||
+         key == "ranks" || key == "distribution";
 }
 
 /// refinement.csv without its wall-clock columns `seconds` (14th) and `resort_seconds` (16th).

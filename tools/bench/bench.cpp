@@ -1,6 +1,6 @@
-// Throughput benchmark (docs/performance.md). The unit is ns per directed bond per core for the
-// whole step: a directed bond is one bond i→j (one entry of a full neighbour list), so one
-// unordered pair inside both horizons is two, as LAMMPS and CabanaPD count.
+// Throughput benchmark (docs/verification.md, "Performance"). The unit is ns per directed bond per
+// core for the whole step: a directed bond is one bond i→j (one entry of a full neighbour list), so
+// one unordered pair inside both horizons is two, as LAMMPS and CabanaPD count.
 #include "tools/bench/bench.hpp"
 
 #include <fmt/core.h>
@@ -12,15 +12,16 @@
 #include <ostream>
 
 #include "engine/simulation.hpp"
+#include "tools/bench/bench_plate.hpp"
 #include "tools/bench/lammps_deck.hpp"
 #include "tools/run/provenance.hpp"
 
 namespace dhpd {
 namespace {
-
 using bench::Plate;
+}  // namespace
 
-SimulationSetup common_setup(double horizon_factor, const Material& m, bool fracture) {
+SimulationSetup bench::common_setup(double horizon_factor, const Material& m, bool fracture) {
   SimulationSetup s;
   s.section.dim = 3;
   s.horizon_factor = horizon_factor;
@@ -31,8 +32,7 @@ SimulationSetup common_setup(double horizon_factor, const Material& m, bool frac
   return s;
 }
 
-/// The plate of bench::Plate: the same sites, notches and impact as the LAMMPS deck.
-SimulationSetup plate_setup(const Plate& pl, bool fracture) {
+SimulationSetup bench::plate_setup(const Plate& pl, bool fracture) {
   auto s = common_setup(pl.horizon_factor, {pl.E, pl.rho, pl.G0}, fracture);
   auto& pts = s.points;
   for (int k = 0; k < pl.nz; ++k)
@@ -52,6 +52,10 @@ SimulationSetup plate_setup(const Plate& pl, bool fracture) {
   s.initial_conditions.push_back(impact);
   return s;
 }
+
+namespace {
+using bench::common_setup;
+using bench::plate_setup;
 
 /// A cube of cells³ sites under a small uniform strain (every bond carries force, none breaks).
 SimulationSetup lattice_setup(const BenchOptions& o, bool fracture) {

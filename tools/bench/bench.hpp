@@ -17,12 +17,18 @@ struct BenchOptions {
   double horizon_factor = 3.015;
   bool refinement = false;      ///< time refinement events instead (bench_refinement.cpp)
   std::string lammps = "auto";  ///< auto (when lmp is on PATH), off, or the lmp command
+  bool mpi = false;             ///< R MPI ranks against R threads (bench_mpi.cpp; R from `threads`)
   bool outputs = false;  ///< time a scene's outputs and diagnostics instead (bench_outputs.cpp)
   std::string scene = "cases/branching_plate_uniform.yaml";  ///< the scene of `outputs`
 };
 
 /// Runs the benchmark and prints a table (ns per directed bond per core, bytes per particle).
 void run_bench(const BenchOptions& options, std::ostream& out);
+
+/// The plate with fracture on R ranks of one thread (mpirun) against one process of R threads,
+/// for each R of `threads`: ns per directed bond per core, exchange time and bytes per step,
+/// load imbalance, partition time. Under mpirun it is the child that measures.
+void run_mpi_bench(const BenchOptions& options, std::ostream& out);
 
 /// Times one refinement event on the same refined set in bodies of N, 4N and 16N particles.
 void run_refinement_bench(const BenchOptions& options, std::ostream& out);

@@ -6,10 +6,14 @@
 #include <omp.h>
 #include <CLI/CLI.hpp>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <iostream>
+#include <optional>
+#include <thread>
 
 #include "engine/base/errors.hpp"
+#include "engine/distributed/communicator.hpp"
 #include "engine/output_fields.hpp"
 #include "tools/bench/bench.hpp"
 #include "tools/cli/python_commands.hpp"
@@ -41,9 +45,22 @@ void print_fields(std::ostream& out) {
          "the scene: output: {fields: [NAME, ...]}.\n";
 }
 
+/// Whether this process reports errors: the only process, or rank 0 of an MPI launch (the other
+/// ranks meet the same errors at the same point and stay quiet).
+bool reports = true;
+
 int report(const char* kind, const std::exception& e, int code) {
-  std::cerr << "dhpd: " << kind << ": " << e.what() << "\n";
+  if (reports) std::cerr << "dhpd: " << kind << ": " << e.what() << "\n";
   return code;
+}
+
+/// Threads per rank when --threads is not given: the node's cores shared by its ranks.
+int threads_per_rank(int threads) {
+  if (threads > 0) return threads;
+  const char* local = std::getenv("OMPI_COMM_WORLD_LOCAL_SIZE");
+  const int ranks = local ? std::max(1, std::atoi(local)) : 1;
+  if (ranks == 1) return 0;
+  return std::max(1, static_cast<int>(std::thread::hardware_concurrency()) / ranks);
 }
 
 }  // namespace
@@ -51,6 +68,11 @@ int report(const char* kind, const std::exception& e, int code) {
 int main(int argc, char** argv) {
   // Line-buffered even when stdout is a file or a pipe: a redirected or killed run keeps its log.
   std::setvbuf(stdout, nullptr, _IOLBF, 0);
+  // Under mpirun every rank runs this program (docs/theory.md §25); otherwise MPI is never touched.
+  std::optional<dhpd::distributed::MpiSession> mpi;
+  if (dhpd::distributed::MpiSession::launched_by_mpirun()) mpi.emplace(argc, argv);
+  const auto comm = dhpd::distributed::Communicator::world();
+  reports = comm->root();
   CLI::App app{"dhpd: dual-horizon peridynamics for dynamic fracture"};
   app.require_subcommand(1);
   app.set_version_flag(
@@ -67,6 +89,17 @@ int main(int argc, char** argv) {
   run->add_option("-t,--threads", threads, "OpenMP threads (default: all cores)")
       ->check(CLI::Range(1, 1024));
   run->add_flag("-q,--quiet", quiet, "no log lines or progress");
+  std::string partition = "rcb";
+  run->add_option("--partition", partition,
+                  "under mpirun: Zoltan's partitioner, rcb (coordinate bisection) or hsfc "
+                  "(Hilbert curve)")
+      ->check(CLI::IsMember({"rcb", "hsfc"}));
+  std::string repartition = "imbalance";
+  run->add_option("--repartition", repartition,
+                  "under mpirun: when Zoltan cuts again: imbalance (new particles follow the cuts "
+                  "until the largest rank's work exceeds the mean by 10 %), events (after every "
+                  "refinement event), steps (before every step: a stress test)")
+      ->check(CLI::IsMember({"imbalance", "events", "steps"}));
   bool overwrite = false;
   run->add_flag("--overwrite", overwrite,
                 "replace another run's outputs in the output folder (removes exactly the files a "
@@ -118,6 +151,9 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 1024));
   bench->add_option("--lammps", bench_opt.lammps,
                     "auto: run LAMMPS (lmp) beside dhpd when installed; off; or the lmp command");
+  bench->add_flag("--mpi", bench_opt.mpi,
+                  "the plate on R MPI ranks (mpirun) against R threads, R from --threads, with "
+                  "the exchange terms of the scale model (docs/verification.md, Distributed runs)");
   bench->add_flag("--refinement", bench_opt.refinement,
                   "time refinement events on the same refined set in bodies of N, 4N, 16N");
   bench->add_flag("--outputs", bench_opt.outputs,
@@ -184,7 +220,9 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (*bench) {
-      if (bench_opt.outputs)
+      if (bench_opt.mpi)
+        dhpd::run_mpi_bench(bench_opt, std::cout);
+      else if (bench_opt.outputs)
         dhpd::run_outputs_bench(bench_opt, std::cout);
       else if (bench_opt.refinement)
         dhpd::run_refinement_bench(bench_opt, std::cout);
@@ -200,15 +238,25 @@ int main(int argc, char** argv) {
     }
     dhpd::RunOptions opt;
     if (!out_dir.empty()) opt.output_directory = out_dir;
-    opt.threads = threads;
-    opt.progress = !quiet;
-    opt.echo = !quiet;
+    opt.threads = threads_per_rank(threads);
+    opt.progress = !quiet && comm->root();
+    opt.echo = !quiet && comm->root();
+    opt.comm = comm;
+    opt.partition = partition == "hsfc" ? dhpd::distributed::PartitionMethod::Hsfc
+                                        : dhpd::distributed::PartitionMethod::Rcb;
+    using dhpd::distributed::RepartitionPolicy;
+    opt.repartition = repartition == "events"  ? RepartitionPolicy::Events
+                      : repartition == "steps" ? RepartitionPolicy::Steps
+                                               : RepartitionPolicy::Imbalance;
     if (!restart_dir.empty()) opt.restart_from = restart_dir;
     opt.overwrite = overwrite;
     if (max_memory_mb > 0) opt.max_memory_mb = max_memory_mb;
     opt.command_words.assign(argv, argv + argc);
     opt.command_words.front() = "dhpd";
-    dhpd::run_scene(scene, opt);
+    if (comm->root())
+      dhpd::run_scene(scene, opt);
+    else
+      dhpd::serve_scene(scene, opt);
     return 0;
   } catch (const dhpd::InputError& e) {
     return report("error", e, 2);

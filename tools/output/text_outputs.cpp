@@ -194,6 +194,13 @@ void write_summary(const std::string& path, const Summary& s) {
   j["bond_updates_per_second"] = s.bond_updates_per_second;
   j["particle_steps_per_second"] = s.particle_steps_per_second;
   j["threads"] = s.threads;
+  j["ranks"] = s.ranks;
+  if (s.ranks > 1)
+    j["distribution"] = {{"partitioner", s.partitioner},
+                         {"imbalance", s.imbalance},
+                         {"values_shared", s.values_shared},
+                         {"repartitions", s.repartitions},
+                         {"particles_moved", s.moved}};
   j["version"] = s.version;
   j["commit"] = s.commit;
   j["command_line"] = s.command_line;

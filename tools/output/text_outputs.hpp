@@ -112,6 +112,13 @@ struct Summary {
   double end_time = 0, dt = 0, critical_dt = 0;
   double bond_updates_per_second = 0, particle_steps_per_second = 0;
   int threads = 1;
+  /// MPI ranks of the run (docs/theory.md §25), the partitioner and its load imbalance (largest
+  /// rank's bond entries over the mean), and the values the ranks shared (8 or 1 bytes each).
+  int ranks = 1;
+  std::string partitioner;
+  double imbalance = 1.0;
+  std::int64_t values_shared = 0;
+  std::int64_t repartitions = 0, moved = 0;  ///< Zoltan cuts; particles that changed owner
   /// Provenance: dhpd's version, the source tree's commit, the command line that ran.
   std::string version, commit, command_line;
   double peak_memory_mb = 0;  ///< this process's own peak resident memory (VmHWM)

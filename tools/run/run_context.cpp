@@ -10,6 +10,7 @@
 namespace dhpd::run {
 
 void RunContext::finish_with_checkpoint() {
+  sim.share_bond_states();  // rank 0 of a distributed run saves every row's bonds
   auto listed = frames.entries_once_written();
   if (!listed || omp_get_max_threads() < 2) {
     frames.drain();  // a frame that failed is an IoError of the run, not of the checkpoint

@@ -125,6 +125,7 @@ struct RunContext {
   /// store's fields are copied by the next step's threads before they change them
   /// (frame_before_change()); the frame's encoding finishes the copy when no step came first.
   void write_frame() {
+    sim.share_bond_states();  // fields such as bond_count read every row
     auto t = sim.timers().scope(Phase::Output);
     if (!frames.shared()) {
       frames.write(sim.time(), sim.steps_done(), io::frame_points(sim),
@@ -177,6 +178,7 @@ struct RunContext {
   }
   void keep_good() {
     auto t = sim.timers().scope(Phase::Diagnostics);
+    sim.share_bond_states();  // rank 0 of a distributed run keeps every row's bonds
     good.simulation.take(sim);
     good.run = run_state(false);  // its frames: those on disk when it is used (write_last_good)
     if (cracks) good.cracks = cracks->tracker;
@@ -225,6 +227,7 @@ struct RunContext {
   void checkpoint() {
     auto& st = *state;
     st = run_state();
+    sim.share_bond_states();
     auto t = sim.timers().scope(Phase::Output);
     const auto begin = std::chrono::steady_clock::now();
     log_checkpoint(write_checkpoint(checkpoint_file.string(), sim, st, scene_text), begin);

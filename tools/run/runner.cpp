@@ -73,6 +73,14 @@ io::Summary make_summary(const scene::Scene& s, const Simulation& sim, double wa
   sum.particle_steps_per_second = static_cast<double>(sim.steps_done()) *
                                   static_cast<double>(sum.particles_end) / std::max(wall, 1e-12);
   sum.threads = omp_get_max_threads();
+  if (const auto* share = sim.force_share()) {
+    sum.ranks = share->comm().size();
+    sum.partitioner = std::string(distributed::name_of(share->method()));
+    sum.imbalance = share->stats().imbalance;
+    sum.values_shared = share->stats().values_shared;
+    sum.repartitions = share->stats().repartitions;
+    sum.moved = share->stats().moved;
+  }
   sum.active_effects.push_back("elasticity");
   if (s.effects.fracture) sum.active_effects.push_back("fracture");
   if (s.refinement) sum.active_effects.push_back("refinement");
@@ -216,6 +224,7 @@ void time_loop(RunContext& ctx, io::Progress& progress) {
     // A signal already caught starts no refinement event: the run stops after this step.
     if (hook && !sim.is_static() && hook->refiner.due(k, sim) && !signals.caught()) {
       try {
+        sim.announce_edit();  // the other ranks of a distributed run check with it
         const auto ev = hook->refiner.check(sim);
         if (ev.parents > 0) hook->log(sim, ev);
       } catch (const refine::EventCancelled&) {
@@ -382,15 +391,10 @@ refine::Refiner::EventCheck event_check(run::RunLog& log, double budget, bool gi
   };
 }
 
-}  // namespace
-
-void run_scene(const scene::Scene& s, const RunOptions& opt) {
-  if (opt.threads > 0) omp_set_num_threads(opt.threads);
-  const auto start = Clock::now();
-  run::RunLog log(opt.echo);
-  const fs::path dir = opt.output_directory.value_or(s.output.directory);
-  // The folder: another run's outputs are refused before anything is built or written.
-  const bool own_folder = opt.restart_from && same_folder(run_folder_of(*opt.restart_from), dir);
+/// The checks before a run, the same on every rank: the folder (another run's outputs are refused
+/// before anything is built or written) and the memory budget. Returns the budget.
+double check_before_build(const scene::Scene& s, const RunOptions& opt, const fs::path& dir,
+                          bool own_folder, run::RunLog& log) {
   if (!own_folder && !opt.overwrite)
     run::claim_folder(dir, false, opt.restart_from ? "the restarted run" : "a new run");
   const auto estimate = scene::estimate_resources(s);
@@ -400,6 +404,55 @@ void run_scene(const scene::Scene& s, const RunOptions& opt) {
       fmt::format("dhpd: set-up: about {:.4g} particles, {:.4g} bonds, {:.0f} MB (of {:.0f} "
                   "MB available)",
                   estimate.particles, estimate.bonds, estimate.bytes / 1e6, budget / 1e6));
+  return budget;
+}
+
+/// A distributed run's decomposition (docs/theory.md §25), after the checkpoint is loaded.
+void distribute(Simulation& sim, const RunOptions& opt, run::RunLog& log) {
+  if (!opt.comm || opt.comm->size() == 1) return;
+  sim.distribute(opt.comm, opt.partition, opt.repartition);
+  const auto& st = sim.force_share()->stats();
+  log.line(fmt::format("dhpd: {} ranks: Zoltan {} partition, load imbalance {:.3f} ({:.3f} s)",
+                       opt.comm->size(), distributed::name_of(opt.partition), st.imbalance,
+                       st.partition_seconds));
+}
+
+/// A restarted run's crack tracker and run state, as resume_run fills them.
+struct Resumed {
+  std::optional<measure::CrackTracker> tracker;
+  RunState state;
+};
+}  // namespace
+
+void serve_scene(const scene::Scene& s, const RunOptions& opt) {
+  if (opt.threads > 0) omp_set_num_threads(opt.threads);
+  run::RunLog log(false);
+  const fs::path dir = opt.output_directory.value_or(s.output.directory);
+  const bool own_folder = opt.restart_from && same_folder(run_folder_of(*opt.restart_from), dir);
+  check_before_build(s, opt, dir, own_folder, log);
+  auto sim = scene::build_simulation(s);
+  std::optional<refine::Refiner> refiner;
+  if (s.refinement) refiner.emplace(s.refinement->settings);
+  if (opt.restart_from) {
+    Resumed r;
+    if (s.measure) r.tracker.emplace(s.measure->settings);
+    r.state.cracks = r.tracker ? &*r.tracker : nullptr;
+    resume_run(s, opt, *sim, r.state, log);
+  } else if (refiner) {
+    refiner->refine_zones(*sim);  // as start_run on rank 0
+  }
+  distribute(*sim, opt, log);
+  if (refiner) refiner->prepare(*sim);
+  sim->serve([&] { refiner->check(*sim); });
+}
+
+void run_scene(const scene::Scene& s, const RunOptions& opt) {
+  if (opt.threads > 0) omp_set_num_threads(opt.threads);
+  const auto start = Clock::now();
+  run::RunLog log(opt.echo);
+  const fs::path dir = opt.output_directory.value_or(s.output.directory);
+  const bool own_folder = opt.restart_from && same_folder(run_folder_of(*opt.restart_from), dir);
+  const double budget = check_before_build(s, opt, dir, own_folder, log);
   auto sim = scene::build_simulation(s);  // every check happens here, before any output
   std::unique_ptr<RefinementHook> hook;
   if (s.refinement) hook = std::make_unique<RefinementHook>(s.refinement->settings, log);
@@ -412,6 +465,12 @@ void run_scene(const scene::Scene& s, const RunOptions& opt) {
     from = resume_run(s, opt, *sim, state, log);
   else
     start_run(s, *sim, hook.get(), state);
+  distribute(*sim, opt, log);
+  // Whatever ends this run on rank 0 (completion, an error of its own) lets the other ranks go.
+  const struct Release {
+    Simulation& sim;
+    ~Release() { sim.release_ranks(); }
+  } release{*sim};
   if (!own_folder && opt.overwrite) run::claim_folder(dir, true, "");
   prepare_folder(s, dir, from, state);
   log.open((dir / "run.log").string(), from.has_value() && same_folder(*from, dir));

@@ -1,0 +1,158 @@
+// Distributed runs through mpirun (docs/theory.md §25): any rank count writes the serial run's
+// outputs byte for byte, restarts cross rank counts, and bad input is reported once, by rank 0.
+#include <cstdlib>
+
+#include "tests/support/checkpoint_cli.hpp"
+
+namespace dhpd::cli_test {
+namespace {
+
+class MpiCli : public CliTest {
+ protected:
+  /// `mpirun -np RANKS dhpd ARGS... --set S...` (one OpenMP thread per rank).
+  Outcome mpi(int ranks, std::vector<std::string> args, const std::vector<std::string>& sets = {}) {
+    // CI machines run as root; OpenMPI refuses that unless told.
+    setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
+    setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
+    std::vector<std::string> all{"--oversubscribe",   "-np",   std::to_string(ranks), "-x",
+                                 "OMP_NUM_THREADS=1", DHPD_BIN};
+    all.insert(all.end(), args.begin(), args.end());
+    return dhpd(all, sets, DHPD_MPIEXEC);
+  }
+  /// Occurrences of `word` in `text`.
+  static int count(const std::string& text, const std::string& word) {
+    int n = 0;
+    for (auto at = text.find(word); at != std::string::npos; at = text.find(word, at + 1)) ++n;
+    return n;
+  }
+};
+
+TEST_F(MpiCli, OneToFourRanksWriteTheSerialRunsOutputsByteForByte) {
+  // The pre-cracked plate with fracture: bonds break on every rank's share of the rows.
+  const auto ref = run_plate("ref", {}, {"time.steps=200"});
+  ASSERT_GT(read_history(ref / "history.csv").column(5).back(), 20) << "bonds break";
+  for (const int ranks : {1, 2, 3, 4}) {
+    const std::string out = "np" + std::to_string(ranks);
+    const auto o = mpi(ranks, {"run", "plate.yaml", "-o", out, "-q"}, {"time.steps=200"});
+    ASSERT_EQ(o.code, 0) << o.err;
+    EXPECT_EQ(o.out, "");
+    expect_same_outputs(ref, dir_ / out, "plate");
+    EXPECT_EQ(read_json(dir_ / out / "summary.json").at("ranks"), ranks);
+  }
+}
+
+TEST_F(MpiCli, ShippedFineCoarseWaveAnd3dImpactGiveTheSerialBits) {
+  // The elastic 2D wave through a fine/coarse interface (dual horizons, interface factors), the
+  // 3D Kalthoff–Winkler plate at 3.125 mm (4,096 particles; 2,488 bonds break by 40 µs), and its
+  // fine/coarse variant with multi-rate stepping (three time levels, 4,348 bonds break).
+  struct Case {
+    std::string file, name;
+    std::vector<std::string> sets;
+    int ranks;
+  };
+  const std::vector<Case> cases{{"wave_plate_2d.yaml", "wave_plate_2d", {"time.end=0.03"}, 3},
+                                {"kalthoff_winkler_3d_uniform.yaml",
+                                 "kalthoff_winkler_3d_uniform",
+                                 {"body.0.spacing=0.003125", "time.end=4e-5"},
+                                 2},
+                                {"kalthoff_winkler_3d_fine_coarse.yaml",
+                                 "kalthoff_winkler_3d_fine_coarse",
+                                 {"body.0.spacing=0.003125", "body.1.spacing=0.0015625",
+                                  "time.end=4e-5", "time.multirate=true"},
+                                 4}};
+  for (const auto& c : cases) {
+    const std::string scene = std::string(DHPD_SOURCE_DIR) + "/cases/" + c.file;
+    const auto serial = dhpd({"run", scene, "-o", c.name + "_serial", "-q"}, c.sets);
+    ASSERT_EQ(serial.code, 0) << serial.err;
+    const auto o = mpi(c.ranks, {"run", scene, "-o", c.name + "_mpi", "-q"}, c.sets);
+    ASSERT_EQ(o.code, 0) << o.err;
+    expect_same_outputs(dir_ / (c.name + "_serial"), dir_ / (c.name + "_mpi"), c.name);
+    if (c.name.find("fine_coarse") != std::string::npos) {
+      const auto levels = read_json(dir_ / (c.name + "_mpi") / "summary.json").at("time_levels");
+      EXPECT_GE(levels.at("particles").size(), 2u) << "time levels";
+    }
+  }
+}
+
+TEST_F(MpiCli, AdaptiveRunWithARepartitionAfterEveryEventGivesTheSerialBits) {
+  // Kalthoff–Winkler 2D adaptive to 40 µs: 17 refinement events. Every rank runs each event on
+  // its copy; Zoltan cuts again after each one (events), only past 10 % imbalance (the default),
+  // or before every step (steps: a row that changes owner must take its bond states along).
+  const std::string scene =
+      std::string(DHPD_SOURCE_DIR) + "/cases/kalthoff_winkler_2d_adaptive.yaml";
+  const std::vector<std::string> sets{"time.end=4e-5"};  // time levels as the defaults choose them
+  const auto serial = dhpd({"run", scene, "-o", "serial", "-q"}, sets);
+  ASSERT_EQ(serial.code, 0) << serial.err;
+  const auto events = read_text(dir_ / "serial" / "refinement.csv");
+  ASSERT_GT(std::count(events.begin(), events.end(), '\n'), 10) << "refinement events";
+  for (const auto& [ranks, policy] : std::vector<std::pair<int, std::string>>{
+           {2, "events"}, {3, "events"}, {4, "imbalance"}, {3, "steps"}}) {
+    const std::string out = policy + std::to_string(ranks);
+    const auto o = mpi(ranks, {"run", scene, "-o", out, "-q", "--repartition", policy}, sets);
+    ASSERT_EQ(o.code, 0) << o.err;
+    expect_same_outputs(dir_ / "serial", dir_ / out, "kalthoff_winkler_2d_adaptive");
+    const auto d = read_json(dir_ / out / "summary.json").at("distribution");
+    EXPECT_LE(d.at("imbalance").get<double>(), 1.1) << out;
+    if (policy == "events") EXPECT_GE(d.at("repartitions").get<int>(), 17) << out;
+    EXPECT_TRUE(read_json(dir_ / out / "summary.json").contains("time_levels")) << out;
+  }
+}
+
+TEST_F(MpiCli, BothPartitionersGiveTheSameBits) {
+  const auto ref = run_plate("ref", {}, {"time.steps=120"});
+  const auto o =
+      mpi(3, {"run", "plate.yaml", "-o", "hsfc", "-q", "--partition", "hsfc"}, {"time.steps=120"});
+  ASSERT_EQ(o.code, 0) << o.err;
+  expect_same_outputs(ref, dir_ / "hsfc", "plate");
+}
+
+TEST_F(MpiCli, RestartOnAnotherRankCountContinuesTheUninterruptedRun) {
+  const auto ref = run_plate("ref", {}, {"time.steps=120"});
+  // Two ranks write a checkpoint at step 60 (kept as checkpoint.prev.bin at the end) ...
+  ASSERT_EQ(mpi(2, {"run", "plate.yaml", "-o", "early", "-q"},
+                {"time.steps=120", "output.checkpoint_every=60"})
+                .code,
+            0);
+  fs::rename(dir_ / "early" / "checkpoint.prev.bin", dir_ / "early" / "checkpoint.bin");
+  // ... which three ranks, and one process, continue to the reference's end.
+  const auto three = mpi(3, {"run", "plate.yaml", "-o", "three", "-q", "--restart", "early"},
+                         {"time.steps=120", "output.checkpoint_every=60"});
+  ASSERT_EQ(three.code, 0) << three.err;
+  expect_same_outputs(ref, dir_ / "three", "plate");
+  const auto one = dhpd({"run", "plate.yaml", "-o", "one", "-q", "--restart", "early"},
+                        {"time.steps=120", "output.checkpoint_every=60"});
+  ASSERT_EQ(one.code, 0) << one.err;
+  expect_same_outputs(ref, dir_ / "one", "plate");
+}
+
+TEST_F(MpiCli, BadInputIsReportedOnceByRankZeroWithExitCodeTwo) {
+  // A wrong value: every rank meets it, rank 0 alone says so.
+  auto o = mpi(3, {"run", "plate.yaml", "-o", "bad"}, {"time.steps=-5"});
+  EXPECT_EQ(o.code, 2) << o.err;
+  EXPECT_EQ(count(o.err, "dhpd: error"), 1) << o.err;
+  EXPECT_NE(o.err.find("time.steps"), std::string::npos) << o.err;
+  EXPECT_FALSE(fs::exists(dir_ / "bad"));
+  // What does not run on several ranks yet: named, once.
+  o = mpi(2, {"run", "plate.yaml", "-o", "state"}, {"model.family=ordinary-state"});
+  EXPECT_EQ(o.code, 2) << o.err;
+  EXPECT_EQ(count(o.err, "dhpd: error"), 1) << o.err;
+  EXPECT_NE(o.err.find("model.family"), std::string::npos) << o.err;
+  EXPECT_FALSE(fs::exists(dir_ / "state"));
+  // More ranks than particles.
+  write("two.yaml", with_line(kPlate, 8,
+                              "  - {shape: box, min: [0, 0], max: [0.001, 0.0005], spacing: "
+                              "0.0005, material: glass}"));
+  o = mpi(3, {"run", "two.yaml", "-o", "two"}, {"cracks=[]", "boundary_conditions=[]"});
+  EXPECT_EQ(o.code, 2) << o.err;
+  EXPECT_EQ(count(o.err, "dhpd: error"), 1) << o.err;
+  EXPECT_NE(o.err.find("3 ranks for 2 particles"), std::string::npos) << o.err;
+  // A restart from a checkpoint of another scene.
+  ASSERT_EQ(mpi(2, {"run", "plate.yaml", "-o", "first", "-q"}).code, 0);
+  o = mpi(2, {"run", "plate.yaml", "-o", "again", "--restart", "first"}, {"time.steps=90"});
+  EXPECT_EQ(o.code, 2) << o.err;
+  EXPECT_EQ(count(o.err, "dhpd: error"), 1) << o.err;
+  EXPECT_FALSE(fs::exists(dir_ / "again"));
+}
+
+}  // namespace
+}  // namespace dhpd::cli_test
