@@ -1,5 +1,7 @@
 // Distributed runs through mpirun (docs/theory.md §25): any rank count writes the serial run's
 // outputs byte for byte, restarts cross rank counts, and bad input is reported once, by rank 0.
+#include <fmt/core.h>
+
 #include <cstdlib>
 
 #include "tests/support/checkpoint_cli.hpp"
@@ -123,6 +125,76 @@ TEST_F(MpiCli, RestartOnAnotherRankCountContinuesTheUninterruptedRun) {
                         {"time.steps=120", "output.checkpoint_every=60"});
   ASSERT_EQ(one.code, 0) << one.err;
   expect_same_outputs(ref, dir_ / "one", "plate");
+}
+
+TEST_F(MpiCli, AnUnstableRunStopsOnEveryRankAndKeepsTheSerialRunsLastGoodState) {
+  const auto check = dhpd({"check", "plate.yaml"});
+  ASSERT_EQ(check.code, 0) << check.err;
+  const double stable = std::stod(check.out.substr(check.out.find("stable_dt: ") + 11));
+  const std::vector<std::string> sets{fmt::format("time.dt={:.17g}", 3.0 * stable),
+                                      "time.check_dt=false", "time.steps=3000"};
+  const auto serial = dhpd({"run", "plate.yaml", "-o", "serial", "-q"}, sets);
+  ASSERT_EQ(serial.code, 3) << serial.err;
+  const auto o = mpi(3, {"run", "plate.yaml", "-o", "np3", "-q"}, sets);
+  EXPECT_EQ(o.code, 3) << o.err;
+  EXPECT_EQ(count(o.err, "dhpd: unstable run stopped"), 1) << o.err;
+  // The same message (but for the folder; mpirun adds its own lines after it) and last good state.
+  std::string message = o.err.substr(0, o.err.find('\n'));
+  message.replace(message.find("np3/"), 4, "serial/");
+  EXPECT_EQ(message + "\n", serial.err);
+  for (const char* file : {"history.csv", "plate.pvd"})
+    EXPECT_EQ(read_text(dir_ / "serial" / file), read_text(dir_ / "np3" / file)) << file;
+  for (const auto& [time, frame] : io::read_pvd((dir_ / "serial" / "plate.pvd").string()))
+    EXPECT_TRUE(read_text(dir_ / "serial" / frame) == read_text(dir_ / "np3" / frame)) << frame;
+  EXPECT_EQ(read_json(dir_ / "np3" / "summary.json").at("status"), "unstable");
+}
+
+/// Starts `mpirun -np RANKS dhpd ARGS...` in `dir` (output discarded); returns mpirun's pid.
+pid_t spawn_mpirun(const fs::path& dir, int ranks, const std::vector<std::string>& args) {
+  std::vector<std::string> all{DHPD_MPIEXEC, "--oversubscribe",   "-np",   std::to_string(ranks),
+                               "-x",         "OMP_NUM_THREADS=1", DHPD_BIN};
+  all.insert(all.end(), args.begin(), args.end());
+  const pid_t pid = fork();
+  if (pid == 0) {
+    if (chdir(dir.c_str()) != 0) _exit(127);
+    if (!freopen("/dev/null", "w", stdout) || !freopen("/dev/null", "w", stderr)) _exit(127);
+    setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
+    setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
+    std::vector<char*> argv;
+    for (auto& a : all) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    execv(DHPD_MPIEXEC, argv.data());
+    _exit(127);
+  }
+  return pid;
+}
+
+TEST_F(MpiCli, SigtermToMpirunStopsWithACheckpointThatAnyRankCountContinues) {
+  // mpirun passes SIGTERM to every rank and kills them a moment later: rank 0 finishes its step
+  // and writes the checkpoint (the others help it and ignore the signal themselves).
+  write("adaptive.yaml", kAdaptivePlate);
+  // Four times the plate's 12 µs, so that the run is still going when mpirun passes the signal.
+  const std::vector<std::string> sets{"time.end=4.8e-5"};
+  const auto ref = dhpd({"run", "adaptive.yaml", "-o", "ref", "-q"}, sets);
+  ASSERT_EQ(ref.code, 0) << ref.err;
+  const auto rows = read_history(dir_ / "ref" / "history.csv").rows.size();
+  const pid_t pid = spawn_mpirun(
+      dir_, 2, {"run", "adaptive.yaml", "-o", "sig", "-q", "--set", "time.end=4.8e-5"});
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (std::chrono::steady_clock::now() < deadline) {
+    const auto text = read_text(dir_ / "sig" / "history.csv");
+    if (static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n')) > rows / 4) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  kill(pid, SIGTERM);
+  EXPECT_NE(wait_for(pid), 0);
+  const auto summary = read_json(dir_ / "sig" / "summary.json");
+  ASSERT_EQ(summary.at("status"), "interrupted");
+  EXPECT_LT(summary.at("steps").get<long long>(),
+            read_json(dir_ / "ref" / "summary.json").at("steps").get<long long>());
+  const auto o = mpi(3, {"run", "adaptive.yaml", "-o", "again", "-q", "--restart", "sig"}, sets);
+  ASSERT_EQ(o.code, 0) << o.err;
+  expect_same_outputs(dir_ / "ref", dir_ / "again", "adaptive");
 }
 
 TEST_F(MpiCli, BadInputIsReportedOnceByRankZeroWithExitCodeTwo) {

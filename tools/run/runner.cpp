@@ -2,6 +2,7 @@
 #include "tools/run/runner.hpp"
 
 #include <fmt/format.h>
+#include <csignal>
 #include <omp.h>
 #include <chrono>
 #include <cmath>
@@ -443,6 +444,10 @@ void serve_scene(const scene::Scene& s, const RunOptions& opt) {
   }
   distribute(*sim, opt, log);
   if (refiner) refiner->prepare(*sim);
+  // SIGINT / SIGTERM (mpirun sends them to every rank) are rank 0's to act on: it finishes the
+  // step, writes its checkpoint with this rank's help and then releases it.
+  std::signal(SIGINT, SIG_IGN);
+  std::signal(SIGTERM, SIG_IGN);
   sim->serve([&] { refiner->check(*sim); });
 }
 
