@@ -171,6 +171,8 @@ void Simulation::compute_forces(bool with_fracture, std::vector<double>* row_ene
     auto t = timers_.scope(Phase::Forces);
     if (correspondence_) {
       correspondence_->forces(bonds_, p_);  // elastic: no fracture (refused by the scene)
+    } else if (state_ && share_) {
+      distributed_state_forces(with_fracture);
     } else if (state_) {
       // Breaks first: the dilatation sums the bonds left (docs/theory.md §20.4).
       if (with_fracture) broken_ += break_bonds(bonds_, p_, bond_constants());
@@ -354,9 +356,10 @@ Energies Simulation::energies() {
   e.kinetic = sums.kinetic;
   if (correspondence_)
     e.strain = correspondence_->strain_energy(bonds_, p_);
-  else if (state_)
+  else if (state_) {
+    share_bond_states();  // the strain energy reads every row's bonds
     e.strain = state_->strain_energy(bonds_, p_);
-  else if (strain_energy_from_step())
+  } else if (strain_energy_from_step())
     e.strain = fused_energy_.strain;
   else {
     share_bond_states();

@@ -334,6 +334,9 @@ class Simulation {
   /// The force pass of this rank's rows, then every rank gets their results (§25.1).
   void distributed_forces(bool with_fracture, std::vector<double>* row_energy,
                           const SideTask* side);
+  /// The same for the ordinary state-based family: this rank's breaks and dilatations, every
+  /// rank gets θ, α, β (and damage), then this rank's forces, and every rank gets them.
+  void distributed_state_forces(bool with_fracture);
   /// What the ordinary state-based constants are built from (any family: the correspondence
   /// model takes the same).
   OrdinaryStateInputs state_inputs() const;

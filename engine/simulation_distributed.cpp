@@ -9,8 +9,8 @@ namespace dhpd {
 namespace {
 /// Why `setup` (with its time levels) cannot run on several ranks yet, or "".
 std::string not_distributed(const SimulationSetup& setup) {
-  if (setup.family != ModelFamily::Bond)
-    return "model.family: the state-based families run on one rank only (for now)";
+  if (setup.family == ModelFamily::Correspondence)
+    return "model.family: the correspondence family runs on one rank only (for now)";
   if (setup.statics) return "statics: static load steps run on one rank only (for now)";
   if (!setup.layers.empty())
     return "boundary_conditions: fictitious layers run on one rank only (for now)";
@@ -59,6 +59,18 @@ void Simulation::distributed_forces(bool with_fracture, std::vector<double>* row
     internal_force_density(bonds_, p_, &rows, row_energy, &kernel_points_, side);
   broken_ += share_->share_pass(p_.dim(), p_.force_density, with_fracture ? &p_.damage : nullptr,
                                 row_energy, broke);
+}
+
+void Simulation::distributed_state_forces(bool with_fracture) {
+  const auto& rows = share_->owned();
+  const std::int64_t broke = with_fracture ? break_bonds(bonds_, p_, bond_constants(), &rows) : 0;
+  state_->forces(bonds_, p_, &rows, [&] {
+    const auto pass = state_->pass_fields();
+    std::vector<std::vector<double>*> fields(pass.begin(), pass.end());
+    if (with_fracture) fields.push_back(&p_.damage);
+    broken_ += share_->share_values(fields, broke);
+  });
+  share_->share_pass(p_.dim(), p_.force_density, nullptr, nullptr, 0);
 }
 
 void Simulation::serve(const std::function<void()>& edit) {

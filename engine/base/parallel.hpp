@@ -47,6 +47,17 @@ void for_each_particle(std::size_t count, F&& f) {
   for (std::int64_t i = 0; i < n; ++i) f(static_cast<std::size_t>(i));
 }
 
+/// f(i) for the particles `subset` lists, or for all `count` when it is null, in parallel from
+/// kParallelMinParticles on.
+template <class F>
+void for_each_particle(std::size_t count, const std::vector<std::int32_t>* subset, F&& f) {
+  if (!subset) return for_each_particle(count, f);
+  const auto n = static_cast<std::int64_t>(subset->size());
+  const std::int32_t* slots = subset->data();
+#pragma omp parallel for schedule(static) if (n >= kParallelMinParticles)
+  for (std::int64_t k = 0; k < n; ++k) f(static_cast<std::size_t>(slots[k]));
+}
+
 /// Σ over fixed blocks of kSumBlock particles of f(i, sums), in parallel from
 /// kParallelMinParticles on, the blocks' sums added in order (Sums::operator+=): the same bits for
 /// any thread count.

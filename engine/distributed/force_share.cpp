@@ -94,32 +94,39 @@ Command ForceShare::announce(Command c) const {
 
 std::int64_t ForceShare::share_pass(int dim, VectorArray& force, std::vector<double>* damage,
                                     std::vector<double>* row_energy, std::int64_t broken) {
-  // Each rank's block: its broken count, then per owned row its values (dim + optional fields).
-  const int width = dim + (damage ? 1 : 0) + (row_energy ? 1 : 0);
+  std::vector<std::vector<double>*> fields;
+  for (int a = 0; a < dim; ++a) fields.push_back(&force[a]);
+  if (damage) fields.push_back(damage);
+  if (row_energy) {
+    row_energy->resize(force[0].size());
+    fields.push_back(row_energy);
+  }
+  return share_values(fields, broken);
+}
+
+std::int64_t ForceShare::share_values(const std::vector<std::vector<double>*>& fields,
+                                      std::int64_t broken) {
+  // Each rank's block: its count, then per owned row the value of each field.
+  const auto width = fields.size();
   send_.clear();
   send_.push_back(static_cast<double>(broken));  // exact: far below 2^53
-  for (const auto i : owned_) {
-    for (int a = 0; a < dim; ++a) send_.push_back(force[a][i]);
-    if (damage) send_.push_back((*damage)[i]);
-    if (row_energy) send_.push_back((*row_energy)[i]);
-  }
+  for (const auto i : owned_)
+    for (const auto* f : fields) send_.push_back((*f)[static_cast<std::size_t>(i)]);
   std::vector<int> counts(rows_per_rank_.size());
-  for (std::size_t r = 0; r < counts.size(); ++r) counts[r] = 1 + width * rows_per_rank_[r];
-  receive_.resize(gather_order_.size() * static_cast<std::size_t>(width) + counts.size());
+  for (std::size_t r = 0; r < counts.size(); ++r)
+    counts[r] = 1 + static_cast<int>(width) * rows_per_rank_[r];
+  receive_.resize(gather_order_.size() * width + counts.size());
   const auto start = std::chrono::steady_clock::now();
   comm_->all_gather(send_, counts, receive_);
   stats_.exchange_seconds += seconds_since(start);
   stats_.values_shared += static_cast<std::int64_t>(receive_.size());
-  if (row_energy) row_energy->resize(force[0].size());
   std::int64_t total = 0;
   std::size_t at = 0, row = 0;
   for (std::size_t r = 0; r < counts.size(); ++r) {
     total += static_cast<std::int64_t>(receive_[at++]);
     for (int k = 0; k < rows_per_rank_[r]; ++k, ++row) {
       const auto i = static_cast<std::size_t>(gather_order_[row]);
-      for (int a = 0; a < dim; ++a) force[a][i] = receive_[at++];
-      if (damage) (*damage)[i] = receive_[at++];
-      if (row_energy) (*row_energy)[i] = receive_[at++];
+      for (auto* f : fields) (*f)[i] = receive_[at++];
     }
   }
   return total;

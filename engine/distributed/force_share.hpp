@@ -59,6 +59,9 @@ class ForceShare {
   /// `broken` over ranks (each rank's bonds broken by its rows).
   std::int64_t share_pass(int dim, VectorArray& force, std::vector<double>* damage,
                           std::vector<double>* row_energy, std::int64_t broken);
+  /// Every rank gets each owned row's value of every field (each sized to the store), and the
+  /// sum of `broken` over ranks.
+  std::int64_t share_values(const std::vector<std::vector<double>*>& fields, std::int64_t broken);
   /// share_pass for the rows of `rows` alone (a time level's rows, the same list on every rank):
   /// each rank computed the ones it owns (owned_of).
   std::int64_t share_rows(const std::vector<std::int32_t>& rows, int dim, VectorArray& force,

@@ -183,12 +183,14 @@ std::int64_t force_and_break(BondRows& b, ParticleStore& p, const BondConstants&
   });
 }
 
-std::int64_t break_bonds(BondRows& b, ParticleStore& p, const BondConstants& c) {
-  const auto n = static_cast<std::int64_t>(p.size());
+std::int64_t break_bonds(BondRows& b, ParticleStore& p, const BondConstants& c,
+                         const std::vector<std::int32_t>* rows) {
+  const auto n = static_cast<std::int64_t>(rows ? rows->size() : p.size());
+  const std::int32_t* slots = rows ? rows->data() : nullptr;
   std::int64_t broken = 0;
 #pragma omp parallel for schedule(dynamic, 256) reduction(+ : broken) if (n >= kParallelMinParticles)
-  for (std::int64_t i = 0; i < n; ++i) {
-    const auto row = static_cast<std::size_t>(i);
+  for (std::int64_t t = 0; t < n; ++t) {
+    const auto row = static_cast<std::size_t>(slots ? slots[t] : t);
     int broke = 0;
     for (auto k = b.begin(row); k < b.end(row); ++k) {
       if (!(b.flags[k] & (kOwnIntact | kDualIntact))) continue;

@@ -43,7 +43,9 @@ std::int64_t force_and_break(BondRows& bonds, ParticleStore& p, const BondConsta
 /// particle's dilatation after the breaks: each intact bond whose stretch reached its owner's s0
 /// breaks in both rows of its pair (each row decides from the same bits, as force_and_break), and
 /// a row that lost an own bond refreshes its damage. Returns the bonds broken.
-std::int64_t break_bonds(BondRows& bonds, ParticleStore& p, const BondConstants& c);
+/// With `rows`, only those rows (a rank's share of a distributed run).
+std::int64_t break_bonds(BondRows& bonds, ParticleStore& p, const BondConstants& c,
+                         const std::vector<std::int32_t>* rows = nullptr);
 
 /// One time level's part of the rows (docs/theory.md §19): rows `rows`, each only its entries
 /// [start[i], start[i] + count[i]), forces written to `force` (the other rows' are left alone).

@@ -201,8 +201,9 @@ void OrdinaryState::apply_interface_factors(const BondRows& rows) {
 
 template <int Dim, class Kinematics>
 void OrdinaryState::dilatation_pass(const BondRows& rows, const ParticleStore& p,
-                                    const Kinematics& kin) {
-  for_each_particle(p.size(), [&](std::size_t i) {
+                                    const Kinematics& kin,
+                                    const std::vector<std::int32_t>* subset) {
+  for_each_particle(p.size(), subset, [&](std::size_t i) {
     // θ = (n/m) Σ h w |ξ| e;  S = Σ g w e^d |ξ| = Σ g w e |ξ| − (θ/n) Σ g w |ξ|² (§20.5).
     double theta = 0.0, extension = 0.0, moment = 0.0;
     each_intact_own<Dim>(rows, lengths_.data(), i, kin,
@@ -231,8 +232,9 @@ void OrdinaryState::dilatation_pass(const BondRows& rows, const ParticleStore& p
 
 template <int Dim, bool Multi, class Kinematics>
 void OrdinaryState::force_pass(const BondRows& rows, const ParticleStore& p, const Kinematics& kin,
-                               double* const out[3], bool per_density) {
-  for_each_particle(p.size(), [&](std::size_t i) {
+                               double* const out[3], bool per_density,
+                               const std::vector<std::int32_t>* subset) {
+  for_each_particle(p.size(), subset, [&](std::size_t i) {
     double f[Dim] = {};
     for (auto k = rows.begin(i); k < rows.end(i); ++k) {
       const bool own = rows.own_intact(k);
@@ -265,17 +267,20 @@ void OrdinaryState::force_pass(const BondRows& rows, const ParticleStore& p, con
   });
 }
 
-void OrdinaryState::forces(const BondRows& rows, ParticleStore& p) {
+void OrdinaryState::forces(const BondRows& rows, ParticleStore& p,
+                           const std::vector<std::int32_t>* subset,
+                           const std::function<void()>& between) {
   with_dim(p.dim(), [&](auto d) {
     constexpr int Dim = d();
     const Deformed kin{{p.position[0].data(), p.position[1].data(), p.position[2].data()}};
-    dilatation_pass<Dim>(rows, p, kin);
+    dilatation_pass<Dim>(rows, p, kin, subset);
+    if (between) between();
     double* const out[3] = {p.force_density[0].data(), p.force_density[1].data(),
                             p.force_density[2].data()};
     if (multi_)  // the kernel is chosen once per pass, not per bond
-      force_pass<Dim, true>(rows, p, kin, out, false);
+      force_pass<Dim, true>(rows, p, kin, out, false, subset);
     else
-      force_pass<Dim, false>(rows, p, kin, out, false);
+      force_pass<Dim, false>(rows, p, kin, out, false, subset);
     return 0;
   });
 }

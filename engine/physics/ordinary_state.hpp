@@ -3,7 +3,9 @@
 // bond i→j uses the owner's weighted volume m_i, dilatation θ_i, κ_i and G_i; it acts on i and,
 // reversed, on j (the dual horizon), so every pair gets equal and opposite impulses.
 #pragma once
+#include <array>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "engine/discretization/bonds.hpp"
@@ -82,7 +84,13 @@ class OrdinaryState {
 
   /// θ of every particle from the current positions, then the force density of every particle
   /// (overwritten), row by row in the gather form: the same bits for any thread count.
-  void forces(const BondRows& rows, ParticleStore& p);
+  /// With `subset`, only those particles' θ and forces (a rank's rows of a distributed run), and
+  /// `between` runs after the dilatation pass (there every rank gets every θ, α, β: pass_fields).
+  void forces(const BondRows& rows, ParticleStore& p, const std::vector<std::int32_t>* subset,
+              const std::function<void()>& between);
+  void forces(const BondRows& rows, ParticleStore& p) { forces(rows, p, nullptr, {}); }
+  /// θ, α and β of each particle: what the force pass reads of a bond's other end.
+  std::array<std::vector<double>*, 3> pass_fields() { return {&theta_, &alpha_, &beta_}; }
   /// The linearised forces of displacement u (dim values per particle) about the reference
   /// configuration, divided by each particle's density and negated: M⁻¹ K u per unit volume, the
   /// operator whose largest eigenvalue bounds the stable step (docs/theory.md §9, §20.3).
@@ -115,10 +123,12 @@ class OrdinaryState {
 
  private:
   template <int Dim, class Kinematics>
-  void dilatation_pass(const BondRows& rows, const ParticleStore& p, const Kinematics& kin);
+  void dilatation_pass(const BondRows& rows, const ParticleStore& p, const Kinematics& kin,
+                       const std::vector<std::int32_t>* subset = nullptr);
   template <int Dim, bool Multi, class Kinematics>
   void force_pass(const BondRows& rows, const ParticleStore& p, const Kinematics& kin,
-                  double* const out[3], bool per_density);
+                  double* const out[3], bool per_density,
+                  const std::vector<std::int32_t>* subset = nullptr);
 
   /// Multiplies the deviatoric weights by the rows' factors φ and the dilatation weights by their
   /// dilatation factors ψ (docs/theory.md §20.6).

@@ -46,7 +46,9 @@ TEST_F(MpiCli, OneToFourRanksWriteTheSerialRunsOutputsByteForByte) {
 TEST_F(MpiCli, ShippedFineCoarseWaveAnd3dImpactGiveTheSerialBits) {
   // The elastic 2D wave through a fine/coarse interface (dual horizons, interface factors), the
   // 3D Kalthoff–Winkler plate at 3.125 mm (4,096 particles; 2,488 bonds break by 40 µs), and its
-  // fine/coarse variant with multi-rate stepping (three time levels, 4,348 bonds break).
+  // fine/coarse variant with multi-rate stepping (three time levels, 4,348 bonds break), and the
+  // ordinary state-based adaptive Kalthoff–Winkler plate to 30 µs (12 events, 1,116 bonds break:
+  // each rank's dilatations are shared before its forces).
   struct Case {
     std::string file, name;
     std::vector<std::string> sets;
@@ -61,7 +63,11 @@ TEST_F(MpiCli, ShippedFineCoarseWaveAnd3dImpactGiveTheSerialBits) {
                                  "kalthoff_winkler_3d_fine_coarse",
                                  {"body.0.spacing=0.003125", "body.1.spacing=0.0015625",
                                   "time.end=4e-5", "time.multirate=true"},
-                                 4}};
+                                 4},
+                                {"kalthoff_winkler_2d_state_adaptive.yaml",
+                                 "kalthoff_winkler_2d_state_adaptive",
+                                 {"time.end=3e-5"},
+                                 2}};
   for (const auto& c : cases) {
     const std::string scene = std::string(DHPD_SOURCE_DIR) + "/cases/" + c.file;
     const auto serial = dhpd({"run", scene, "-o", c.name + "_serial", "-q"}, c.sets);
@@ -205,7 +211,8 @@ TEST_F(MpiCli, BadInputIsReportedOnceByRankZeroWithExitCodeTwo) {
   EXPECT_NE(o.err.find("time.steps"), std::string::npos) << o.err;
   EXPECT_FALSE(fs::exists(dir_ / "bad"));
   // What does not run on several ranks yet: named, once.
-  o = mpi(2, {"run", "plate.yaml", "-o", "state"}, {"model.family=ordinary-state"});
+  o = mpi(2, {"run", "plate.yaml", "-o", "state"},
+          {"model.family=correspondence", "effects.fracture=false", "cracks=[]"});
   EXPECT_EQ(o.code, 2) << o.err;
   EXPECT_EQ(count(o.err, "dhpd: error"), 1) << o.err;
   EXPECT_NE(o.err.find("model.family"), std::string::npos) << o.err;
