@@ -304,7 +304,9 @@ class Simulation {
   /// Ranks other than 0: do what rank 0 announces (steps, sharing bond states, `edit`) until it
   /// releases them. An InstabilityError of a step is rank 0's to report: it is met there too, and
   /// this rank keeps serving until released.
-  void serve(const std::function<void()>& edit = {});
+  /// `between_relaxations`: this rank's part of a static load step's refinement checks (every
+  /// rank checks on its copy at the same point of the step).
+  void serve(const std::function<void()>& edit = {}, const EditTask* between_relaxations = nullptr);
   /// Rank 0, before an edit that every rank makes the same way (a refinement check: the other
   /// ranks run their `edit` of serve): the bond states are shared, then the edit announced.
   void announce_edit();

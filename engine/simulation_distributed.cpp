@@ -11,7 +11,6 @@ namespace {
 std::string not_distributed(const SimulationSetup& setup) {
   if (setup.family == ModelFamily::Correspondence)
     return "model.family: the correspondence family runs on one rank only (for now)";
-  if (setup.statics) return "statics: static load steps run on one rank only (for now)";
   if (!setup.layers.empty())
     return "boundary_conditions: fictitious layers run on one rank only (for now)";
   return "";
@@ -73,7 +72,7 @@ void Simulation::distributed_state_forces(bool with_fracture) {
   share_->share_pass(p_.dim(), p_.force_density, nullptr, nullptr, 0);
 }
 
-void Simulation::serve(const std::function<void()>& edit) {
+void Simulation::serve(const std::function<void()>& edit, const EditTask* between_relaxations) {
   if (!share_ || share_->comm().root()) return;
   using distributed::Command;
   for (;;) {
@@ -90,7 +89,8 @@ void Simulation::serve(const std::function<void()>& edit) {
       continue;
     }
     try {
-      step({.strain_energy = c == Command::StepWithEnergy});
+      step({.strain_energy = c == Command::StepWithEnergy,
+            .between_relaxations = between_relaxations});
     } catch (const InstabilityError&) {
       // The same bits on rank 0 met the same check: it reports, this rank waits for its word.
     }

@@ -48,26 +48,29 @@ TEST_F(MpiCli, ShippedFineCoarseWaveAnd3dImpactGiveTheSerialBits) {
   // 3D Kalthoff–Winkler plate at 3.125 mm (4,096 particles; 2,488 bonds break by 40 µs), and its
   // fine/coarse variant with multi-rate stepping (three time levels, 4,348 bonds break), and the
   // ordinary state-based adaptive Kalthoff–Winkler plate to 30 µs (12 events, 1,116 bonds break:
-  // each rank's dilatations are shared before its forces).
+  // each rank's dilatations are shared before its forces), and the quasi-static notched plate in
+  // 8 load steps (85 refinement events between relaxations, 3,602 bonds break).
   struct Case {
     std::string file, name;
     std::vector<std::string> sets;
     int ranks;
   };
-  const std::vector<Case> cases{{"wave_plate_2d.yaml", "wave_plate_2d", {"time.end=0.03"}, 3},
-                                {"kalthoff_winkler_3d_uniform.yaml",
-                                 "kalthoff_winkler_3d_uniform",
-                                 {"body.0.spacing=0.003125", "time.end=4e-5"},
-                                 2},
-                                {"kalthoff_winkler_3d_fine_coarse.yaml",
-                                 "kalthoff_winkler_3d_fine_coarse",
-                                 {"body.0.spacing=0.003125", "body.1.spacing=0.0015625",
-                                  "time.end=4e-5", "time.multirate=true"},
-                                 4},
-                                {"kalthoff_winkler_2d_state_adaptive.yaml",
-                                 "kalthoff_winkler_2d_state_adaptive",
-                                 {"time.end=3e-5"},
-                                 2}};
+  const std::vector<Case> cases{
+      {"wave_plate_2d.yaml", "wave_plate_2d", {"time.end=0.03"}, 3},
+      {"kalthoff_winkler_3d_uniform.yaml",
+       "kalthoff_winkler_3d_uniform",
+       {"body.0.spacing=0.003125", "time.end=4e-5"},
+       2},
+      {"kalthoff_winkler_3d_fine_coarse.yaml",
+       "kalthoff_winkler_3d_fine_coarse",
+       {"body.0.spacing=0.003125", "body.1.spacing=0.0015625", "time.end=4e-5",
+        "time.multirate=true"},
+       4},
+      {"kalthoff_winkler_2d_state_adaptive.yaml",
+       "kalthoff_winkler_2d_state_adaptive",
+       {"time.end=3e-5"},
+       2},
+      {"notched_plate_quasistatic.yaml", "notched_plate_quasistatic", {"time.steps=8"}, 2}};
   for (const auto& c : cases) {
     const std::string scene = std::string(DHPD_SOURCE_DIR) + "/cases/" + c.file;
     const auto serial = dhpd({"run", scene, "-o", c.name + "_serial", "-q"}, c.sets);

@@ -2,7 +2,6 @@
 #include "tools/run/runner.hpp"
 
 #include <fmt/format.h>
-#include <csignal>
 #include <omp.h>
 #include <chrono>
 #include <cmath>
@@ -177,9 +176,12 @@ void time_loop(RunContext& ctx, io::Progress& progress) {
   } forget{hook};
   // A static load step checks the triggers after each of its relaxations, before bonds break:
   // a running crack is refined as it grows.
+  // (On several ranks a signal waits for the end of the load step: every rank must check alike.)
+  const bool alone = sim.force_share() == nullptr;
   const EditTask refine_in_step =
       hook && sim.is_static()
-          ? hook->between_relaxations(sim, [&signals] { return signals.caught() != 0; })
+          ? hook->between_relaxations(sim,
+                                      [&signals, alone] { return alone && signals.caught() != 0; })
           : EditTask();
   for (std::int64_t k = first; !schedule.finished(k - 1, sim.time()); ++k) {
     // A step that a history row or frame follows computes its strain energy in its force pass.
@@ -448,7 +450,9 @@ void serve_scene(const scene::Scene& s, const RunOptions& opt) {
   // step, writes its checkpoint with this rank's help and then releases it.
   std::signal(SIGINT, SIG_IGN);
   std::signal(SIGTERM, SIG_IGN);
-  sim->serve([&] { refiner->check(*sim); });
+  // A static load step checks the triggers between its relaxations, on every rank alike.
+  const EditTask between = [&] { return refiner->check(*sim).parents > 0; };
+  sim->serve([&] { refiner->check(*sim); }, refiner && sim->is_static() ? &between : nullptr);
 }
 
 void run_scene(const scene::Scene& s, const RunOptions& opt) {
