@@ -169,7 +169,9 @@ void Simulation::compute_forces(bool with_fracture, std::vector<double>* row_ene
                                 const SideTask* side) {
   {
     auto t = timers_.scope(Phase::Forces);
-    if (correspondence_) {
+    if (correspondence_ && share_) {
+      distributed_correspondence_forces();
+    } else if (correspondence_) {
       correspondence_->forces(bonds_, p_);  // elastic: no fracture (refused by the scene)
     } else if (state_ && share_) {
       distributed_state_forces(with_fracture);
@@ -355,7 +357,7 @@ Energies Simulation::energies() {
   for (int a = 0; a < 3; ++a) e.momentum[a] = sums.momentum[a];
   e.kinetic = sums.kinetic;
   if (correspondence_)
-    e.strain = correspondence_->strain_energy(bonds_, p_);
+    e.strain = correspondence_->strain_energy(bonds_, p_);  // elastic: every rank's bonds intact
   else if (state_) {
     share_bond_states();  // the strain energy reads every row's bonds
     e.strain = state_->strain_energy(bonds_, p_);

@@ -339,6 +339,8 @@ class Simulation {
   /// The same for the ordinary state-based family: this rank's breaks and dilatations, every
   /// rank gets θ, α, β (and damage), then this rank's forces, and every rank gets them.
   void distributed_state_forces(bool with_fracture);
+  /// The same for the correspondence family (elastic): F and σK⁻¹ are shared between its passes.
+  void distributed_correspondence_forces();
   /// What the ordinary state-based constants are built from (any family: the correspondence
   /// model takes the same).
   OrdinaryStateInputs state_inputs() const;

@@ -6,23 +6,11 @@
 #include "engine/simulation.hpp"
 
 namespace dhpd {
-namespace {
-/// Why `setup` (with its time levels) cannot run on several ranks yet, or "".
-std::string not_distributed(const SimulationSetup& setup) {
-  if (setup.family == ModelFamily::Correspondence)
-    return "model.family: the correspondence family runs on one rank only (for now)";
-  if (!setup.layers.empty())
-    return "boundary_conditions: fictitious layers run on one rank only (for now)";
-  return "";
-}
-}  // namespace
 
 void Simulation::distribute(std::shared_ptr<const distributed::Communicator> comm,
                             distributed::PartitionMethod method,
                             distributed::RepartitionPolicy policy) {
   if (comm->size() == 1) return;
-  if (const auto why = not_distributed(setup_); !why.empty())
-    throw InputError(fmt::format("{} ranks: {}", comm->size(), why));
   const std::size_t n = p_.size();
   if (n < static_cast<std::size_t>(comm->size()))
     throw InputError(fmt::format(
@@ -68,6 +56,16 @@ void Simulation::distributed_state_forces(bool with_fracture) {
     std::vector<std::vector<double>*> fields(pass.begin(), pass.end());
     if (with_fracture) fields.push_back(&p_.damage);
     broken_ += share_->share_values(fields, broke);
+  });
+  share_->share_pass(p_.dim(), p_.force_density, nullptr, nullptr, 0);
+}
+
+void Simulation::distributed_correspondence_forces() {
+  correspondence_->forces(bonds_, p_, &share_->owned(), [&] {
+    std::vector<distributed::FieldView> fields;
+    for (const auto& [data, width] : correspondence_->pass_fields())
+      fields.push_back({data, width});
+    share_->share_values(fields, 0);
   });
   share_->share_pass(p_.dim(), p_.force_density, nullptr, nullptr, 0);
 }

@@ -106,12 +106,22 @@ std::int64_t ForceShare::share_pass(int dim, VectorArray& force, std::vector<dou
 
 std::int64_t ForceShare::share_values(const std::vector<std::vector<double>*>& fields,
                                       std::int64_t broken) {
-  // Each rank's block: its count, then per owned row the value of each field.
-  const auto width = fields.size();
+  std::vector<FieldView> views;
+  for (auto* f : fields) views.push_back({f->data(), 1});
+  return share_values(views, broken);
+}
+
+std::int64_t ForceShare::share_values(const std::vector<FieldView>& fields, std::int64_t broken) {
+  // Each rank's block: its count, then per owned row the values of each field.
+  std::size_t width = 0;
+  for (const auto& f : fields) width += static_cast<std::size_t>(f.width);
   send_.clear();
   send_.push_back(static_cast<double>(broken));  // exact: far below 2^53
   for (const auto i : owned_)
-    for (const auto* f : fields) send_.push_back((*f)[static_cast<std::size_t>(i)]);
+    for (const auto& f : fields)
+      for (int c = 0; c < f.width; ++c)
+        send_.push_back(
+            f.data[static_cast<std::size_t>(f.width) * static_cast<std::size_t>(i) + c]);
   std::vector<int> counts(rows_per_rank_.size());
   for (std::size_t r = 0; r < counts.size(); ++r)
     counts[r] = 1 + static_cast<int>(width) * rows_per_rank_[r];
@@ -126,7 +136,9 @@ std::int64_t ForceShare::share_values(const std::vector<std::vector<double>*>& f
     total += static_cast<std::int64_t>(receive_[at++]);
     for (int k = 0; k < rows_per_rank_[r]; ++k, ++row) {
       const auto i = static_cast<std::size_t>(gather_order_[row]);
-      for (auto* f : fields) (*f)[i] = receive_[at++];
+      for (const auto& f : fields)
+        for (int c = 0; c < f.width; ++c)
+          f.data[static_cast<std::size_t>(f.width) * i + c] = receive_[at++];
     }
   }
   return total;

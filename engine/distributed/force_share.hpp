@@ -19,6 +19,12 @@ struct BondConstants;
 
 namespace dhpd::distributed {
 
+/// `width` values per particle at data[width·i ...] (a per-particle tensor, or 1 for a field).
+struct FieldView {
+  double* data;
+  int width;
+};
+
 /// What rank 0 asks the other ranks to do next (they wait for it in Simulation::serve).
 enum class Command : std::int64_t {
   Step = 1,
@@ -62,6 +68,7 @@ class ForceShare {
   /// Every rank gets each owned row's value of every field (each sized to the store), and the
   /// sum of `broken` over ranks.
   std::int64_t share_values(const std::vector<std::vector<double>*>& fields, std::int64_t broken);
+  std::int64_t share_values(const std::vector<FieldView>& fields, std::int64_t broken);
   /// share_pass for the rows of `rows` alone (a time level's rows, the same list on every rank):
   /// each rank computed the ones it owns (owned_of).
   std::int64_t share_rows(const std::vector<std::int32_t>& rows, int dim, VectorArray& force,

@@ -80,8 +80,8 @@ Correspondence::Correspondence(const BondRows& rows, const ParticleStore& p,
 
 template <int Dim>
 void Correspondence::state_pass(const BondRows& rows, const ParticleStore& p,
-                                const double* const u[3]) {
-  for_each_particle(p.size(), [&](std::size_t i) {
+                                const double* const u[3], const std::vector<std::int32_t>* subset) {
+  for_each_particle(p.size(), subset, [&](std::size_t i) {
     // H = (Σ w Δu ⊗ ξ) K⁻¹, ε = sym H, σ = λ tr ε I + 2μ ε.
     double A[Dim][Dim] = {};
     for (auto k = rows.begin(i); k < rows.end(i); ++k) {
@@ -122,8 +122,9 @@ void Correspondence::state_pass(const BondRows& rows, const ParticleStore& p,
 
 template <int Dim>
 void Correspondence::force_pass(const BondRows& rows, const ParticleStore& p,
-                                const double* const u[3], double* const out[3], bool per_density) {
-  for_each_particle(p.size(), [&](std::size_t i) {
+                                const double* const u[3], double* const out[3], bool per_density,
+                                const std::vector<std::int32_t>* subset) {
+  for_each_particle(p.size(), subset, [&](std::size_t i) {
     double f[Dim] = {};
     for (auto k = rows.begin(i); k < rows.end(i); ++k) {
       const bool own = rows.own_intact(k), dual = rows.dual_intact(k);
@@ -152,15 +153,18 @@ void Correspondence::force_pass(const BondRows& rows, const ParticleStore& p,
   });
 }
 
-void Correspondence::forces(const BondRows& rows, ParticleStore& p) {
+void Correspondence::forces(const BondRows& rows, ParticleStore& p,
+                            const std::vector<std::int32_t>* subset,
+                            const std::function<void()>& between) {
   with_dim(p.dim(), [&](auto d) {
     constexpr int Dim = d();
     const double* const u[3] = {p.displacement[0].data(), p.displacement[1].data(),
                                 p.displacement[2].data()};
-    state_pass<Dim>(rows, p, u);
+    state_pass<Dim>(rows, p, u, subset);
+    if (between) between();
     double* const out[3] = {p.force_density[0].data(), p.force_density[1].data(),
                             p.force_density[2].data()};
-    force_pass<Dim>(rows, p, u, out, false);
+    force_pass<Dim>(rows, p, u, out, false, subset);
     return 0;
   });
 }

@@ -4,6 +4,7 @@
 // owner and, reversed, on the other end; Silling's (2017) stabilisation of zero-energy modes.
 #pragma once
 #include <array>
+#include <functional>
 #include <vector>
 
 #include "engine/discretization/bonds.hpp"
@@ -29,7 +30,16 @@ class Correspondence {
                  double stabilisation = kStabilisation);
 
   /// Force density of every particle (overwritten) from the current positions.
-  void forces(const BondRows& rows, ParticleStore& p);
+  void forces(const BondRows& rows, ParticleStore& p) { forces(rows, p, nullptr, {}); }
+  /// With `subset`, only those particles' state and forces (a rank's rows of a distributed run);
+  /// `between` runs after the state pass (there every rank gets every F and σK⁻¹: pass_fields).
+  void forces(const BondRows& rows, ParticleStore& p, const std::vector<std::int32_t>* subset,
+              const std::function<void()>& between);
+  /// F_i and σ_i K_i⁻¹ (9 values per particle each): what the force pass reads of a bond's other
+  /// end.
+  std::array<std::pair<double*, int>, 2> pass_fields() {
+    return {std::pair{gradient_.data()->data(), 9}, std::pair{stress_kinv_.data()->data(), 9}};
+  }
   /// M⁻¹ K u per unit volume for a displacement u (dim per particle): the model is linear in u.
   void stiffness_times(const BondRows& rows, const ParticleStore& p, const std::vector<double>& u,
                        std::vector<double>& out);
@@ -40,10 +50,12 @@ class Correspondence {
  private:
   using Tensor = std::array<double, 9>;  ///< row-major 3 × 3 (unused axes zero)
   template <int Dim>
-  void state_pass(const BondRows& rows, const ParticleStore& p, const double* const y[3]);
+  void state_pass(const BondRows& rows, const ParticleStore& p, const double* const y[3],
+                  const std::vector<std::int32_t>* subset = nullptr);
   template <int Dim>
   void force_pass(const BondRows& rows, const ParticleStore& p, const double* const y[3],
-                  double* const out[3], bool per_density);
+                  double* const out[3], bool per_density,
+                  const std::vector<std::int32_t>* subset = nullptr);
 
   std::vector<Tensor> shape_inverse_;  ///< K_i⁻¹ (the pseudo-inverse where the bonds do not span)
   std::vector<Tensor> span_;           ///< K_i⁺ K_i: the identity, or the projector onto the span

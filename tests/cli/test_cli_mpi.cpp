@@ -43,13 +43,15 @@ TEST_F(MpiCli, OneToFourRanksWriteTheSerialRunsOutputsByteForByte) {
   }
 }
 
-TEST_F(MpiCli, ShippedFineCoarseWaveAnd3dImpactGiveTheSerialBits) {
+TEST_F(MpiCli, ShippedCasesOfEveryFamilyAndSolverGiveTheSerialBits) {
   // The elastic 2D wave through a fine/coarse interface (dual horizons, interface factors), the
   // 3D Kalthoff–Winkler plate at 3.125 mm (4,096 particles; 2,488 bonds break by 40 µs), and its
   // fine/coarse variant with multi-rate stepping (three time levels, 4,348 bonds break), and the
   // ordinary state-based adaptive Kalthoff–Winkler plate to 30 µs (12 events, 1,116 bonds break:
   // each rank's dilatations are shared before its forces), and the quasi-static notched plate in
-  // 8 load steps (85 refinement events between relaxations, 3,602 bonds break).
+  // 8 load steps (85 refinement events between relaxations, 3,602 bonds break), the cut-out plate
+  // in tension held by fictitious layers (statics), and the vibrating plate with the
+  // correspondence family (its F and σK⁻¹ shared between its two passes).
   struct Case {
     std::string file, name;
     std::vector<std::string> sets;
@@ -70,7 +72,12 @@ TEST_F(MpiCli, ShippedFineCoarseWaveAnd3dImpactGiveTheSerialBits) {
        "kalthoff_winkler_2d_state_adaptive",
        {"time.end=3e-5"},
        2},
-      {"notched_plate_quasistatic.yaml", "notched_plate_quasistatic", {"time.steps=8"}, 2}};
+      {"notched_plate_quasistatic.yaml", "notched_plate_quasistatic", {"time.steps=8"}, 2},
+      {"cutout_plate_tension.yaml", "cutout_plate_tension", {}, 2},
+      {"plate_vibration.yaml",
+       "plate_vibration",
+       {"model.family=correspondence", "horizon.factor=2"},
+       3}};
   for (const auto& c : cases) {
     const std::string scene = std::string(DHPD_SOURCE_DIR) + "/cases/" + c.file;
     const auto serial = dhpd({"run", scene, "-o", c.name + "_serial", "-q"}, c.sets);
@@ -213,12 +220,11 @@ TEST_F(MpiCli, BadInputIsReportedOnceByRankZeroWithExitCodeTwo) {
   EXPECT_EQ(count(o.err, "dhpd: error"), 1) << o.err;
   EXPECT_NE(o.err.find("time.steps"), std::string::npos) << o.err;
   EXPECT_FALSE(fs::exists(dir_ / "bad"));
-  // What does not run on several ranks yet: named, once.
-  o = mpi(2, {"run", "plate.yaml", "-o", "state"},
-          {"model.family=correspondence", "effects.fracture=false", "cracks=[]"});
+  // A scene that contradicts itself (correspondence with fracture): named, once.
+  o = mpi(2, {"run", "plate.yaml", "-o", "state"}, {"model.family=correspondence"});
   EXPECT_EQ(o.code, 2) << o.err;
   EXPECT_EQ(count(o.err, "dhpd: error"), 1) << o.err;
-  EXPECT_NE(o.err.find("model.family"), std::string::npos) << o.err;
+  EXPECT_NE(o.err.find("correspondence"), std::string::npos) << o.err;
   EXPECT_FALSE(fs::exists(dir_ / "state"));
   // More ranks than particles.
   write("two.yaml", with_line(kPlate, 8,
