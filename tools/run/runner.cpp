@@ -166,8 +166,10 @@ void time_loop(RunContext& ctx, io::Progress& progress) {
   }
   const InterruptSignals signals;
   // A signal during an event stops it within a fraction of a second; the run then goes back to
-  // its last good state (the event had half edited the discretisation) and stops there.
-  if (hook) hook->refiner.set_cancel_check([&signals] { return signals.caught() != 0; });
+  // its last good state (the event had half edited the discretisation) and stops there. On
+  // several ranks the event finishes on every rank alike and the run stops after it.
+  const bool alone = sim.force_share() == nullptr;
+  if (hook && alone) hook->refiner.set_cancel_check([&signals] { return signals.caught() != 0; });
   const struct Forget {
     RefinementHook* hook;
     ~Forget() {
@@ -177,7 +179,6 @@ void time_loop(RunContext& ctx, io::Progress& progress) {
   // A static load step checks the triggers after each of its relaxations, before bonds break:
   // a running crack is refined as it grows.
   // (On several ranks a signal waits for the end of the load step: every rank must check alike.)
-  const bool alone = sim.force_share() == nullptr;
   const EditTask refine_in_step =
       hook && sim.is_static()
           ? hook->between_relaxations(sim,
