@@ -26,6 +26,10 @@ class Communicator {
  public:
   /// The world communicator (an MpiSession must be alive).
   static std::shared_ptr<const Communicator> world();
+  /// One rank without MPI (a process mpirun did not start: MPI is never called).
+  static std::shared_ptr<const Communicator> solo() {
+    return std::shared_ptr<const Communicator>(new Communicator(0, 1));
+  }
   int rank() const { return rank_; }
   int size() const { return size_; }
   bool root() const { return rank_ == 0; }

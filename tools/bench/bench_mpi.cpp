@@ -152,8 +152,9 @@ std::optional<MpiSample> launch(const BenchOptions& o, int ranks, std::string& w
 }  // namespace
 
 void run_mpi_bench(const BenchOptions& o, std::ostream& out) {
-  auto comm = distributed::Communicator::world();
-  if (distributed::MpiSession::launched_by_mpirun()) {  // a child launch: measure, print a line
+  const bool child = distributed::MpiSession::launched_by_mpirun();
+  auto comm = child ? distributed::Communicator::world() : distributed::Communicator::solo();
+  if (child) {  // a child launch: measure, print a line
     const auto s = time_plate(o, comm);
     if (comm->root()) out << result_line(s);
     return;

@@ -71,7 +71,8 @@ int main(int argc, char** argv) {
   // Under mpirun every rank runs this program (docs/theory.md §25); otherwise MPI is never touched.
   std::optional<dhpd::distributed::MpiSession> mpi;
   if (dhpd::distributed::MpiSession::launched_by_mpirun()) mpi.emplace(argc, argv);
-  const auto comm = dhpd::distributed::Communicator::world();
+  const auto comm =
+      mpi ? dhpd::distributed::Communicator::world() : dhpd::distributed::Communicator::solo();
   reports = comm->root();
   CLI::App app{"dhpd: dual-horizon peridynamics for dynamic fracture"};
   app.require_subcommand(1);
