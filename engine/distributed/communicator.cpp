@@ -76,9 +76,14 @@ double Communicator::max(double value) const {
 }
 
 namespace {
+/// all_gather of one value type; one rank copies `mine` (MPI may not be initialised then).
 template <class T>
 void gather_into(const std::vector<T>& mine, const std::vector<int>& counts, std::vector<T>& all,
                  int rank, MPI_Datatype type) {
+  if (counts.size() == 1) {
+    all = mine;
+    return;
+  }
   std::vector<int> offsets(counts.size(), 0);
   std::exclusive_scan(counts.begin(), counts.end(), offsets.begin(), 0);
   const auto r = static_cast<std::size_t>(rank);
@@ -93,28 +98,16 @@ void gather_into(const std::vector<T>& mine, const std::vector<int>& counts, std
 
 void Communicator::all_gather(const std::vector<double>& mine, const std::vector<int>& counts,
                               std::vector<double>& all) const {
-  if (size_ == 1) {
-    all = mine;
-    return;
-  }
   gather_into(mine, counts, all, rank_, MPI_DOUBLE);
 }
 
 void Communicator::all_gather(const std::vector<std::int32_t>& mine, const std::vector<int>& counts,
                               std::vector<std::int32_t>& all) const {
-  if (size_ == 1) {
-    all = mine;
-    return;
-  }
   gather_into(mine, counts, all, rank_, MPI_INT32_T);
 }
 
 void Communicator::all_gather(const std::vector<std::uint8_t>& mine, const std::vector<int>& counts,
                               std::vector<std::uint8_t>& all) const {
-  if (size_ == 1) {
-    all = mine;
-    return;
-  }
   gather_into(mine, counts, all, rank_, MPI_UINT8_T);
 }
 

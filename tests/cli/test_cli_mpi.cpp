@@ -169,22 +169,12 @@ TEST_F(MpiCli, AnUnstableRunStopsOnEveryRankAndKeepsTheSerialRunsLastGoodState) 
 
 /// Starts `mpirun -np RANKS dhpd ARGS...` in `dir` (output discarded); returns mpirun's pid.
 pid_t spawn_mpirun(const fs::path& dir, int ranks, const std::vector<std::string>& args) {
-  std::vector<std::string> all{DHPD_MPIEXEC, "--oversubscribe",   "-np",   std::to_string(ranks),
-                               "-x",         "OMP_NUM_THREADS=1", DHPD_BIN};
+  setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);  // as MpiCli::mpi, for the child to inherit
+  setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
+  std::vector<std::string> all{"--oversubscribe",   "-np",   std::to_string(ranks), "-x",
+                               "OMP_NUM_THREADS=1", DHPD_BIN};
   all.insert(all.end(), args.begin(), args.end());
-  const pid_t pid = fork();
-  if (pid == 0) {
-    if (chdir(dir.c_str()) != 0) _exit(127);
-    if (!freopen("/dev/null", "w", stdout) || !freopen("/dev/null", "w", stderr)) _exit(127);
-    setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
-    setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
-    std::vector<char*> argv;
-    for (auto& a : all) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    execv(DHPD_MPIEXEC, argv.data());
-    _exit(127);
-  }
-  return pid;
+  return spawn_program(DHPD_MPIEXEC, dir, all);
 }
 
 /// The processes whose parent is `parent` (from /proc/*/stat).

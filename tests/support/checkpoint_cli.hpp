@@ -74,12 +74,13 @@ inline std::string without_wall_clock_columns(const std::string& csv) {
   return out;
 }
 
-/// Starts `dhpd ARGS` in `dir` with stdout and stderr into the given files (discarded unless
-/// given); returns the child's pid.
-inline pid_t spawn_dhpd(const fs::path& dir, const std::vector<std::string>& args,
-                        const std::string& out = "/dev/null",
-                        const std::string& err = "/dev/null") {
-  std::vector<std::string> all{DHPD_BIN};
+/// Starts `program ARGS` (a path) in `dir` with stdout and stderr into the given files
+/// (discarded unless given); returns the child's pid.
+inline pid_t spawn_program(const std::string& program, const fs::path& dir,
+                           const std::vector<std::string>& args,
+                           const std::string& out = "/dev/null",
+                           const std::string& err = "/dev/null") {
+  std::vector<std::string> all{program};
   all.insert(all.end(), args.begin(), args.end());
   const pid_t pid = fork();
   if (pid == 0) {
@@ -88,10 +89,17 @@ inline pid_t spawn_dhpd(const fs::path& dir, const std::vector<std::string>& arg
     std::vector<char*> argv;
     for (auto& a : all) argv.push_back(a.data());
     argv.push_back(nullptr);
-    execv(DHPD_BIN, argv.data());
+    execv(program.c_str(), argv.data());
     _exit(127);
   }
   return pid;
+}
+
+/// Starts `dhpd ARGS` in `dir` (spawn_program of the binary); returns the child's pid.
+inline pid_t spawn_dhpd(const fs::path& dir, const std::vector<std::string>& args,
+                        const std::string& out = "/dev/null",
+                        const std::string& err = "/dev/null") {
+  return spawn_program(DHPD_BIN, dir, args, out, err);
 }
 
 /// The exit code of the child, or 128 + the signal that killed it.
