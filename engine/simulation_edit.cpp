@@ -149,7 +149,8 @@ void Simulation::renumber() {
   std::vector<std::int32_t> new_index(n);
   for (std::size_t k = 0; k < n; ++k) new_index[static_cast<std::size_t>(order[k])] = k;
   p_ = gather(p_, order);
-  bonds_ = renumbered_rows(bonds_, order, new_index);
+  // Refinement moves the rows it rebuilds to the end of the arena: room for an eighth more.
+  bonds_ = renumbered_rows(bonds_, order, new_index, setup_.effects.refinement ? 0.125 : 0.0);
   if (!interaction_scale_.empty()) {  // two per particle (multi-horizon; never edited today)
     std::vector<double> scale(interaction_scale_.size());
     for (std::size_t k = 0; k < n; ++k)

@@ -2,7 +2,6 @@
 // event, docs/theory.md §13.6): every row that holds one of those bonds, own or dual, is merged
 // anew and written back in place or, when it grew, at the end of the arena.
 #include <algorithm>
-#include <tuple>
 
 #include "engine/base/errors.hpp"
 #include "engine/discretization/bonds.hpp"
@@ -20,8 +19,15 @@ struct Entry {
   float dilatation;  ///< the own bond's state-based dilatation factor
 };
 
-/// A new bond seen from its neighbour's row: (neighbour, owner, intact).
-using DualSide = std::tuple<std::int32_t, std::int32_t, bool>;
+/// A new bond seen from its neighbour's row. An owner has one bond to a neighbour, so (neighbour,
+/// owner) orders them all.
+struct DualSide {
+  std::int32_t neighbour, owner;
+  bool intact;
+  std::int64_t key() const {
+    return (static_cast<std::int64_t>(neighbour) << 32) | static_cast<std::uint32_t>(owner);
+  }
+};
 
 bool among(const std::vector<std::int32_t>& sorted, std::int32_t x) {
   return std::binary_search(sorted.begin(), sorted.end(), x);
@@ -57,8 +63,8 @@ void merge_row(const BondRows& b, std::int32_t t, const std::vector<std::int32_t
       e.factor = e.dilatation = 1.0f;  // set again by the interface correction
     }
   for (auto d = dual_first; d != dual_last; ++d) {
-    auto& e = entry_of(std::get<1>(*d));
-    e.flags = static_cast<std::uint8_t>(e.flags | kDual | (std::get<2>(*d) ? kDualIntact : 0));
+    auto& e = entry_of(d->owner);
+    e.flags = static_cast<std::uint8_t>(e.flags | kDual | (d->intact ? kDualIntact : 0));
   }
 }
 
@@ -106,13 +112,14 @@ std::vector<std::int32_t> replace_own_bonds(BondRows& b, const ParticleStore& p,
     for (auto e = b.begin(i); e < b.end(i); ++e)
       if (b.flags[e] & kOwn) touched.push_back(b.other[e]);
     for (const auto& nb : bonds[k]) {
-      dual_new.emplace_back(nb.neighbor, owners[k], nb.intact);
+      dual_new.push_back({nb.neighbor, owners[k], nb.intact});
       touched.push_back(nb.neighbor);
     }
   }
   std::sort(touched.begin(), touched.end());
   touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
-  std::sort(dual_new.begin(), dual_new.end());
+  std::sort(dual_new.begin(), dual_new.end(),
+            [](const DualSide& a, const DualSide& b) { return a.key() < b.key(); });
   // Merge every touched row from the current rows first (each on its own, in parallel), then
   // write them all in order: a row's merge reads only its own entries, and the others' are not
   // needed.
@@ -121,10 +128,10 @@ std::vector<std::int32_t> replace_own_bonds(BondRows& b, const ParticleStore& p,
 #pragma omp parallel for schedule(dynamic, 64) if (n >= 256)
   for (std::int64_t r = 0; r < n; ++r) {
     const auto t = touched[r];
-    const auto by_row = [](const DualSide& e, std::int32_t x) { return std::get<0>(e) < x; };
+    const auto by_row = [](const DualSide& e, std::int32_t x) { return e.neighbour < x; };
     const auto d = std::lower_bound(dual_new.begin(), dual_new.end(), t, by_row);
     auto last = d;
-    while (last != dual_new.end() && std::get<0>(*last) == t) ++last;
+    while (last != dual_new.end() && last->neighbour == t) ++last;
     const auto o = std::lower_bound(owners.begin(), owners.end(), t);
     const bool is_owner = o != owners.end() && *o == t;
     merge_row(b, t, owners,

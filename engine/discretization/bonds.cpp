@@ -117,14 +117,33 @@ std::int32_t BondRows::own_count(std::size_t i) const {
   return n;
 }
 
+namespace {
+/// Resizes v to n entries; storage that must grow takes an eighth more than n, unless it was
+/// empty (a from-scratch build is exact).
+template <class T>
+void fit_to(std::vector<T>& v, std::size_t n, T fill) {
+  if (n > v.capacity() && v.capacity() > 0) v.reserve(n + n / 8);
+  v.resize(n, fill);
+}
+}  // namespace
+
+void BondRows::reserve_entries(std::size_t entries) {
+  other.reserve(entries);
+  length_index.reserve(entries);
+  flags.reserve(entries);
+  stiffness.reserve(entries);
+  if (!factor.empty()) factor.reserve(entries);
+  if (!dilatation_factor.empty()) dilatation_factor.reserve(entries);
+}
+
 void BondRows::fit_arena() {
   const auto n = static_cast<std::size_t>(rows.arena);
-  other.resize(n, -1);
-  length_index.resize(n, 0);
-  flags.resize(n, 0);
-  stiffness.resize(n, 0.0f);
-  if (!factor.empty()) factor.resize(n, 1.0f);
-  if (!dilatation_factor.empty()) dilatation_factor.resize(n, 1.0f);
+  fit_to(other, n, std::int32_t{-1});
+  fit_to(length_index, n, std::int32_t{0});
+  fit_to(flags, n, std::uint8_t{0});
+  fit_to(stiffness, n, 0.0f);
+  if (!factor.empty()) fit_to(factor, n, 1.0f);
+  if (!dilatation_factor.empty()) fit_to(dilatation_factor, n, 1.0f);
 }
 
 namespace {
@@ -275,7 +294,7 @@ BondRows build_bond_rows(const ParticleStore& p, PartialVolume pv,
 }
 
 BondRows renumbered_rows(const BondRows& rows, const std::vector<std::int32_t>& order,
-                         const std::vector<std::int32_t>& new_index) {
+                         const std::vector<std::int32_t>& new_index, double spare) {
   const std::size_t n = order.size();
   BondRows b;
   std::vector<std::int32_t> counts(n);
@@ -283,6 +302,8 @@ BondRows renumbered_rows(const BondRows& rows, const std::vector<std::int32_t>& 
   b.rows = RowIndex::packed(counts);
   if (!rows.factor.empty()) b.factor.assign(1, 1.0f);  // fit_arena sizes a non-empty one
   if (!rows.dilatation_factor.empty()) b.dilatation_factor.assign(1, 1.0f);
+  const auto arena = static_cast<std::size_t>(b.rows.arena);
+  b.reserve_entries(arena + static_cast<std::size_t>(spare * static_cast<double>(arena)));
   b.fit_arena();
   b.stiffness_scale = rows.stiffness_scale;
   b.break_ratio2.resize(n);
@@ -295,7 +316,11 @@ BondRows renumbered_rows(const BondRows& rows, const std::vector<std::int32_t>& 
     row.clear();
     for (auto e = rows.begin(i); e < rows.end(i); ++e)
       row.emplace_back(new_index[static_cast<std::size_t>(rows.other[e])], e);
-    std::sort(row.begin(), row.end());
+    // Neighbours keep most of their order under a renumbering (Morton order within levels): an
+    // insertion sort is about linear here (the new indices are distinct, so the order is unique).
+    for (std::size_t a = 1; a < row.size(); ++a)
+      for (std::size_t c = a; c > 0 && row[c].first < row[c - 1].first; --c)
+        std::swap(row[c], row[c - 1]);
     auto s = static_cast<std::size_t>(b.begin(k));
     for (const auto& [j, e] : row) {
       b.other[s] = j;

@@ -74,8 +74,12 @@ struct BondRows {
   std::int64_t find(std::size_t i, std::int32_t j) const;
   /// Own bonds of row i.
   std::int32_t own_count(std::size_t i) const;
-  /// Resizes the entry arrays to the arena (new slots are empty: other −1, no flags).
+  /// Resizes the entry arrays to the arena (new slots are empty: other −1, no flags). An array
+  /// that must grow takes an eighth more than the arena (rows moved by refinement events come in
+  /// small steps; doubling would hold up to twice the arena).
   void fit_arena();
+  /// Capacity for `entries` entries in every entry array (no entry is added).
+  void reserve_entries(std::size_t entries);
   /// Bytes held by the arrays (capacities: what the allocator gave).
   std::size_t bytes() const;
 };
@@ -112,10 +116,12 @@ BondRows build_bond_rows(const ParticleStore& particles, PartialVolume rule,
                          const std::vector<geometry::Crack>& cracks);
 
 /// The rows after the particles are renumbered (order[k]: old index of new particle k, new_index
-/// its inverse), packed without spare capacity, each row sorted by its new `other`; every entry
-/// keeps its length, flags, factor and stiffness; the length table is made canonical.
+/// its inverse), packed without spare room in any row, each row sorted by its new `other`; every
+/// entry keeps its length, flags, factor and stiffness; the length table is made canonical. The
+/// entry arrays hold `spare` × the entries more in capacity (for the rows the next refinement
+/// events move to the end of the arena, without copying the arrays again).
 BondRows renumbered_rows(const BondRows& rows, const std::vector<std::int32_t>& order,
-                         const std::vector<std::int32_t>& new_index);
+                         const std::vector<std::int32_t>& new_index, double spare = 0.0);
 
 /// One own bond to write: neighbour and intact state.
 struct NewBond {

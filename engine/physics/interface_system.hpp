@@ -90,6 +90,7 @@ struct System {
   std::vector<std::int32_t> incident;  ///< per block: how many terms it is an end of
   std::vector<Mat<C>> diag;            ///< diagonal blocks of M
   Eigen::VectorXd rhs;                 ///< −T, less the part no factor can change
+  std::vector<Vec<C>> moment;          ///< per block: T before the solve
   double before = 0.0;                 ///< largest |T| before
   std::size_t blocks() const { return constrained.size(); }
   bool touched(std::size_t k) const { return incident[k] > 0; }

@@ -84,7 +84,9 @@ TEST(WavePlateState, DualHorizonAsUniformClassicalVariableScatters) {
     // Dual horizons as good as uniform: within 15 %, or 0.01 where both are far below the paper's
     // (step 200: 0.021 against 0.015, the paper's 0.050 and 0.045).
     EXPECT_LE(c[k], std::max(1.15 * a[k], a[k] + 0.01)) << "step " << kSteps[k];
-    if (kSteps[k] >= 200) EXPECT_GE(b[k], 2.5 * c[k]) << "step " << kSteps[k];
+    if (kSteps[k] >= 200) {
+      EXPECT_GE(b[k], 2.5 * c[k]) << "step " << kSteps[k];
+    }
   }
   // The uniform plate's own accuracy: the pulse arrives (a missing shell of bonds, or a wrong
   // modulus, shifts it by millimetres and the error past 0.5 by step 200).
@@ -104,7 +106,9 @@ TEST(WavePlateState, CorrespondenceDualHorizonAndItsBestHorizon) {
     std::printf("  %-12s %.4f %.4f %.4f %.4f\n", name, e[0], e[1], e[2], e[3]);
   for (std::size_t k = 0; k < kSteps.size(); ++k) {
     EXPECT_LE(c2[k], std::max(1.15 * a2[k], a2[k] + 0.01)) << "step " << kSteps[k];
-    if (kSteps[k] >= 650) EXPECT_LT(a2[k], a3[k]) << "step " << kSteps[k];
+    if (kSteps[k] >= 650) {
+      EXPECT_LT(a2[k], a3[k]) << "step " << kSteps[k];
+    }
   }
 }
 

@@ -233,6 +233,31 @@ TEST(Bonds, RenumberedRowsKeepEveryBondUnderARandomPermutation) {
             renumbered.inverse_length(k), renumbered.flags[k], renumbered.factor[k],
             renumbered.stiffness[k]};
     EXPECT_TRUE(before == after) << dim << "D: an entry changed or went missing";
+
+    // Capacity: exact without spare room; with it, a row an event moves fits without a copy of
+    // the arrays; and arrays that must grow take an eighth more, not twice the arena.
+    const auto arena = static_cast<std::size_t>(renumbered.rows.arena);
+    EXPECT_EQ(renumbered.other.capacity(), arena);
+    auto roomy = renumbered_rows(b, order, new_index, 0.125);
+    EXPECT_GE(roomy.other.capacity(), arena + arena / 8);
+    // Row 3 (its new index) again, with one more bond: it outgrows its room and moves.
+    const auto owner = new_index[3];
+    std::vector<NewBond> grown;
+    for (const auto& nb : row3)
+      grown.push_back({new_index[static_cast<std::size_t>(nb.neighbor)], nb.intact});
+    for (std::int32_t j = 0; grown.size() == row3.size(); ++j)
+      if (j != owner && std::none_of(grown.begin(), grown.end(),
+                                     [&](const NewBond& nb) { return nb.neighbor == j; }))
+        grown.push_back({j, true});
+    std::sort(grown.begin(), grown.end(),
+              [](const NewBond& x, const NewBond& y) { return x.neighbor < y.neighbor; });
+    const auto* storage = roomy.other.data();
+    replace_own_bonds(roomy, p, {owner}, {grown});
+    EXPECT_EQ(roomy.other.data(), storage) << "the move copied the arrays";
+    auto tight = renumbered;
+    replace_own_bonds(tight, p, {owner}, {grown});
+    EXPECT_GT(tight.rows.arena, renumbered.rows.arena);
+    EXPECT_LE(tight.other.capacity(), static_cast<std::size_t>(tight.rows.arena) * 9 / 8 + 1);
   }
 }
 

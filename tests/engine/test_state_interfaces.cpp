@@ -96,8 +96,12 @@ TEST(StateInterfaceSystem, DerivativeMatchesTheForcesAndItsAdjoint) {
         theta_worst = std::max(theta_worst, std::abs(change - jx[sys.theta_row(o) + q]));
         theta_scale = std::max(theta_scale, std::abs(change));
       }
-    if (family == 1) EXPECT_LT(theta_worst, 1e-9 * theta_scale) << theta_worst / theta_scale;
-    if (family == 0) EXPECT_EQ(theta_worst, 0.0);  // λ leaves θ alone
+    if (family == 1) {
+      EXPECT_LT(theta_worst, 1e-9 * theta_scale) << theta_worst / theta_scale;
+    }
+    if (family == 0) {
+      EXPECT_EQ(theta_worst, 0.0);  // λ leaves θ alone
+    }
     Eigen::VectorXd mu = Eigen::VectorXd::Zero(sys.forces.size());
     for (Eigen::Index k = 0; k < mu.size(); ++k) mu[k] = u(rng);
     std::vector<double> jt;

@@ -268,7 +268,9 @@ TEST(Statics, NotchedPlateCracksAlongItsNotchAndParts) {
   // Every particle that lost a fifth of its bonds lies within a horizon of the notch's line.
   const auto& p = sim->particles();
   for (std::size_t i = 0; i < p.size(); ++i)
-    if (p.damage[i] > 0.2) EXPECT_NEAR(p.reference_position[1][i], 0.01, 0.0015) << i;
+    if (p.damage[i] > 0.2) {
+      EXPECT_NEAR(p.reference_position[1][i], 0.01, 0.0015) << i;
+    }
 }
 
 // Bad input: what a static scene cannot mean is refused at its key.
