@@ -127,7 +127,7 @@ OldSegments::Bins OldSegments::binned(
 }
 
 std::size_t OldSegments::count(const Bins& bins, const Vec3& a, const Vec3& b, std::int32_t skip,
-                               double tube) const {
+                               double tube, std::size_t enough) const {
   // A segment with a point in the box of a–b grown by the tube has its midpoint in that box grown
   // by half the longest bond more; one whose own box misses the first cannot cross.
   Vec3 box_lo{0, 0, 0}, box_hi{0, 0, 0};
@@ -161,6 +161,7 @@ std::size_t OldSegments::count(const Bins& bins, const Vec3& a, const Vec3& b, s
         const Vec3 c = old_.position(s.owner), d = old_.position(s.neighbor);
         n += dim_ == 2 ? segments_cross_properly(a, b, c, d)
                        : segment_passes_through_tube(a, b, c, d, tube);
+        if (n >= enough) return n;
       }
     }
   return n;
@@ -170,7 +171,8 @@ OldSegments::Crossings OldSegments::crossing(const Vec3& a, const Vec3& b, std::
                                              double tube, bool count_all) const {
   Crossings out;
   if (broken_.empty() || dim_ == 1) return out;
-  out.broken = count(broken_, a, b, skip, tube);
+  // Without count_all only whether a broken bond crosses matters: the first one settles it.
+  out.broken = count(broken_, a, b, skip, tube, count_all ? kEvery : 1);
   if (!count_all || out.broken == 0) return out;
   std::call_once(all_built_, [&] {
     std::vector<std::pair<std::int32_t, std::int32_t>> pairs;
@@ -180,7 +182,8 @@ OldSegments::Crossings OldSegments::crossing(const Vec3& a, const Vec3& b, std::
       });
     all_ = binned(pairs);
   });
-  out.all = count(all_, a, b, skip, tube);
+  // Only whether the broken ones are more than half matters: counting stops at twice them.
+  out.all = count(all_, a, b, skip, tube, 2 * out.broken);
   return out;
 }
 

@@ -41,7 +41,9 @@ class OldSegments {
   /// Old bonds that cross a–b (a proper crossing in the plane; in 3D passing through the tube of
   /// radius `tube` around a–b, interior to both), skipping those that touch particle `skip`.
   /// `all` is counted only when `count_all` and some broken bond crosses (it is the expensive
-  /// part: a point of a 3D body lies near thousands of bonds).
+  /// part: a point of a 3D body lies near thousands of bonds), and only up to twice `broken`
+  /// (whether the broken ones are more than half); without `count_all`, `broken` is 0 or 1
+  /// (whether any crosses).
   Crossings crossing(const geometry::Vec3& a, const geometry::Vec3& b, std::int32_t skip,
                      double tube, bool count_all) const;
 
@@ -62,8 +64,10 @@ class OldSegments {
     bool empty() const { return segments.empty(); }
   };
   Bins binned(const std::vector<std::pair<std::int32_t, std::int32_t>>& pairs) const;
+  /// Segments of `bins` that cross a–b, counted up to `enough` (then it stops).
   std::size_t count(const Bins& bins, const geometry::Vec3& a, const geometry::Vec3& b,
-                    std::int32_t skip, double tube) const;
+                    std::int32_t skip, double tube, std::size_t enough) const;
+  static constexpr std::size_t kEvery = static_cast<std::size_t>(-1);
 
   const OldGeneration& old_;
   std::vector<std::int32_t> owners_;

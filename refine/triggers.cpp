@@ -98,33 +98,33 @@ std::vector<std::uint8_t> near_a_crack(const Simulation& sim, CrackReach reach_h
         c, dim, step, [&](const geometry::Vec3& x) { return !body || body->contains(x, dim); });
     fronts.insert(fronts.end(), f.begin(), f.end());
   }
-  // Damaged particles first, then every particle: a query around particle i finds the damaged
-  // ones among the indices below `damaged`.
+  // The damaged particles, searched around each asked particle's position (the tree is built
+  // when some asked particle is not near a pre-crack's front).
   VectorArray points;
   std::vector<double> damaged_horizon;
-  for (int pass = 0; pass < 2; ++pass)
-    for (std::size_t i = 0; i < p.size(); ++i)
-      if (pass == 1 || p.damage[i] >= kFrontDamage) {
-        for (int a = 0; a < 3; ++a) points[a].push_back(p.reference_position[a][i]);
-        if (pass == 0) damaged_horizon.push_back(p.horizon[i]);
-      }
-  const std::size_t damaged = damaged_horizon.size();
-  const double widest =
-      damaged > 0 ? *std::max_element(damaged_horizon.begin(), damaged_horizon.end()) : 0.0;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (p.damage[i] >= kFrontDamage) {
+      for (int a = 0; a < 3; ++a) points[a].push_back(p.reference_position[a][i]);
+      damaged_horizon.push_back(p.horizon[i]);
+    }
+  const double widest = damaged_horizon.empty()
+                            ? 0.0
+                            : *std::max_element(damaged_horizon.begin(), damaged_horizon.end());
   auto& out = asked;
-  const std::unique_ptr<NeighborSearch> search =
-      damaged > 0 ? std::make_unique<NeighborSearch>(points, dim) : nullptr;
+  std::unique_ptr<NeighborSearch> search;
   std::vector<std::int32_t> found;
   const auto near_damage = [&](std::size_t i) {
+    if (!search) search = std::make_unique<NeighborSearch>(points, dim);
     // A running crack's reach is counted in the damaged particle's own horizon: a refined tip
     // (δ/2) pulls in a band half as wide as a coarse one would (docs/theory.md §13.1).
-    search->within(damaged + i, horizons * widest, found);
+    const double x[3] = {p.reference_position[0][i], p.reference_position[1][i],
+                         p.reference_position[2][i]};
+    search->around(x, horizons * widest, found);
     for (const auto j : found) {
-      if (j >= static_cast<std::int32_t>(damaged)) break;
       const auto uj = static_cast<std::size_t>(j);
       double d2 = 0.0;
       for (int a = 0; a < dim; ++a) {
-        const double d = points[a][uj] - points[a][damaged + i];
+        const double d = points[a][uj] - x[a];
         d2 += d * d;
       }
       const double reach = horizons * damaged_horizon[uj];
@@ -138,7 +138,7 @@ std::vector<std::uint8_t> near_a_crack(const Simulation& sim, CrackReach reach_h
     const auto x = point_of(p.reference_position, i);
     bool near = false;
     for (const auto& f : fronts) near = near || geometry::distance_to(f, x) <= reach;
-    if (!near && search) near = near_damage(i);
+    if (!near && !damaged_horizon.empty()) near = near_damage(i);
     out[i] = near ? 1 : 0;
   }
   return out;

@@ -118,11 +118,11 @@ std::int32_t BondRows::own_count(std::size_t i) const {
 }
 
 namespace {
-/// Resizes v to n entries; storage that must grow takes an eighth more than n, unless it was
-/// empty (a from-scratch build is exact).
+/// Resizes v to n entries; storage that must grow takes half as much again, unless it was empty
+/// (a from-scratch build is exact).
 template <class T>
 void fit_to(std::vector<T>& v, std::size_t n, T fill) {
-  if (n > v.capacity() && v.capacity() > 0) v.reserve(n + n / 8);
+  if (n > v.capacity() && v.capacity() > 0) v.reserve(n + n / 2);
   v.resize(n, fill);
 }
 }  // namespace
@@ -300,11 +300,13 @@ BondRows renumbered_rows(const BondRows& rows, const std::vector<std::int32_t>& 
   std::vector<std::int32_t> counts(n);
   for (std::size_t k = 0; k < n; ++k) counts[k] = rows.rows.count[order[k]];
   b.rows = RowIndex::packed(counts);
-  if (!rows.factor.empty()) b.factor.assign(1, 1.0f);  // fit_arena sizes a non-empty one
-  if (!rows.dilatation_factor.empty()) b.dilatation_factor.assign(1, 1.0f);
+  const bool factors = !rows.factor.empty(), dilatation = !rows.dilatation_factor.empty();
+  if (factors) b.factor.assign(1, 1.0f);  // reserve_entries sizes a non-empty one
+  if (dilatation) b.dilatation_factor.assign(1, 1.0f);
   const auto arena = static_cast<std::size_t>(b.rows.arena);
   b.reserve_entries(arena + static_cast<std::size_t>(spare * static_cast<double>(arena)));
-  b.fit_arena();
+  b.factor.clear();
+  b.dilatation_factor.clear();
   b.stiffness_scale = rows.stiffness_scale;
   b.break_ratio2.resize(n);
   b.live = b.rows.arena;
@@ -321,15 +323,14 @@ BondRows renumbered_rows(const BondRows& rows, const std::vector<std::int32_t>& 
     for (std::size_t a = 1; a < row.size(); ++a)
       for (std::size_t c = a; c > 0 && row[c].first < row[c - 1].first; --c)
         std::swap(row[c], row[c - 1]);
-    auto s = static_cast<std::size_t>(b.begin(k));
+    // Packed rows follow each other: appending writes row k at its start, each entry once.
     for (const auto& [j, e] : row) {
-      b.other[s] = j;
-      b.length_index[s] = rows.length_index[e];
-      b.flags[s] = rows.flags[e];
-      b.stiffness[s] = rows.stiffness[e];
-      if (!b.factor.empty()) b.factor[s] = rows.factor[e];
-      if (!b.dilatation_factor.empty()) b.dilatation_factor[s] = rows.dilatation_factor[e];
-      ++s;
+      b.other.push_back(j);
+      b.length_index.push_back(rows.length_index[e]);
+      b.flags.push_back(rows.flags[e]);
+      b.stiffness.push_back(rows.stiffness[e]);
+      if (factors) b.factor.push_back(rows.factor[e]);
+      if (dilatation) b.dilatation_factor.push_back(rows.dilatation_factor[e]);
     }
   }
   b.inverse_lengths = rows.inverse_lengths;

@@ -45,20 +45,34 @@ NeighborSearch::NeighborSearch(const VectorArray& points, int dim)
 
 NeighborSearch::~NeighborSearch() = default;
 
-void NeighborSearch::within(std::size_t i, double radius, std::vector<std::int32_t>& out) const {
+namespace {
+/// Indices within `radius` of q, but `skip`, sorted ascending.
+template <class Impl>
+void search_around(const Impl& impl, const double q[3], double radius, std::size_t skip,
+                   std::vector<std::int32_t>& out) {
   thread_local std::vector<std::pair<std::size_t, double>> matches;
   matches.clear();
-  const auto& p = *impl_->cloud.points;
-  const double q[3] = {p[0][i], p[1][i], p[2][i]};
   const double r2 = radius * radius;
   const nanoflann::SearchParams params(32, 0.0f, false);
-  if (impl_->t1) impl_->t1->radiusSearch(q, r2, matches, params);
-  if (impl_->t2) impl_->t2->radiusSearch(q, r2, matches, params);
-  if (impl_->t3) impl_->t3->radiusSearch(q, r2, matches, params);
+  if (impl.t1) impl.t1->radiusSearch(q, r2, matches, params);
+  if (impl.t2) impl.t2->radiusSearch(q, r2, matches, params);
+  if (impl.t3) impl.t3->radiusSearch(q, r2, matches, params);
   out.clear();
   for (const auto& m : matches)
-    if (m.first != i) out.push_back(static_cast<std::int32_t>(m.first));
+    if (m.first != skip) out.push_back(static_cast<std::int32_t>(m.first));
   std::sort(out.begin(), out.end());
+}
+}  // namespace
+
+void NeighborSearch::within(std::size_t i, double radius, std::vector<std::int32_t>& out) const {
+  const auto& p = *impl_->cloud.points;
+  const double q[3] = {p[0][i], p[1][i], p[2][i]};
+  search_around(*impl_, q, radius, i, out);
+}
+
+void NeighborSearch::around(const double x[3], double radius,
+                            std::vector<std::int32_t>& out) const {
+  search_around(*impl_, x, radius, static_cast<std::size_t>(-1), out);
 }
 
 }  // namespace dhpd

@@ -19,6 +19,8 @@ class NeighborSearch {
 
   /// Indices j ≠ i with |X_j − X_i| ≤ radius, sorted ascending, appended to `out` (cleared first).
   void within(std::size_t i, double radius, std::vector<std::int32_t>& out) const;
+  /// Indices j with |X_j − x| ≤ radius (x need not be one of the points), sorted ascending.
+  void around(const double x[3], double radius, std::vector<std::int32_t>& out) const;
 
  private:
   struct Impl;

@@ -235,7 +235,7 @@ TEST(Bonds, RenumberedRowsKeepEveryBondUnderARandomPermutation) {
     EXPECT_TRUE(before == after) << dim << "D: an entry changed or went missing";
 
     // Capacity: exact without spare room; with it, a row an event moves fits without a copy of
-    // the arrays; and arrays that must grow take an eighth more, not twice the arena.
+    // the arrays; and arrays that must grow take half as much again, not twice the arena.
     const auto arena = static_cast<std::size_t>(renumbered.rows.arena);
     EXPECT_EQ(renumbered.other.capacity(), arena);
     auto roomy = renumbered_rows(b, order, new_index, 0.125);
@@ -257,7 +257,7 @@ TEST(Bonds, RenumberedRowsKeepEveryBondUnderARandomPermutation) {
     auto tight = renumbered;
     replace_own_bonds(tight, p, {owner}, {grown});
     EXPECT_GT(tight.rows.arena, renumbered.rows.arena);
-    EXPECT_LE(tight.other.capacity(), static_cast<std::size_t>(tight.rows.arena) * 9 / 8 + 1);
+    EXPECT_LE(tight.other.capacity(), static_cast<std::size_t>(tight.rows.arena) * 3 / 2 + 1);
   }
 }
 

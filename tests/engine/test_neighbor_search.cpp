@@ -91,6 +91,36 @@ TEST(NeighborSearch, RandomPointsMatchBruteForceIn1d2d3d) {
   }
 }
 
+TEST(NeighborSearch, AroundAPointThatIsNotInTheSetMatchesBruteForce) {
+  // around(x): every point within r of x, the query not being one of them; a point of the set
+  // as x finds itself too.
+  for (const int dim : {1, 2, 3}) {
+    const auto x = random_points(dim, 500, 40 + dim);
+    const auto queries = random_points(dim, 60, 90 + dim);
+    const NeighborSearch search(x, dim);
+    std::vector<std::int32_t> found;
+    std::size_t total = 0;
+    for (const double r : {0.0, 0.05, 0.2})
+      for (std::size_t q = 0; q < queries[0].size(); ++q) {
+        const double at[3] = {queries[0][q], queries[1][q], queries[2][q]};
+        found.assign(2, -7);
+        search.around(at, r, found);
+        std::vector<std::int32_t> expected;
+        for (std::size_t j = 0; j < x[0].size(); ++j) {
+          double d2 = 0.0;
+          for (int a = 0; a < dim; ++a) d2 += (x[a][j] - at[a]) * (x[a][j] - at[a]);
+          if (d2 < r * r) expected.push_back(static_cast<std::int32_t>(j));
+        }
+        EXPECT_EQ(found, expected) << dim << "D q=" << q << " r=" << r;
+        total += found.size();
+      }
+    EXPECT_GT(total, 200u) << dim;
+    const double first[3] = {x[0][0], x[1][0], x[2][0]};
+    search.around(first, 1e-9, found);
+    EXPECT_EQ(found, std::vector<std::int32_t>{0}) << dim;
+  }
+}
+
 TEST(NeighborSearch, LatticeAtAndAroundLatticeDistances) {
   // h = 1/8: the radii 2h, √5 h (as computed), 3h are lattice distances, hit exactly by many
   // pairs; the others lie just inside and outside them.
