@@ -303,13 +303,16 @@ class Simulation {
   bool leads() const { return !share_ || share_->comm().root(); }
   /// Ranks other than 0: do what rank 0 announces (steps, sharing bond states, `edit`) until it
   /// releases them. An InstabilityError of a step is rank 0's to report: it is met there too, and
-  /// this rank keeps serving until released.
+  /// this rank keeps serving until released; so is a StoppedByRankZero of an edit or a step.
   /// `between_relaxations`: this rank's part of a static load step's refinement checks (every
   /// rank checks on its copy at the same point of the step).
   void serve(const std::function<void()>& edit = {}, const EditTask* between_relaxations = nullptr);
   /// Rank 0, before an edit that every rank makes the same way (a refinement check: the other
   /// ranks run their `edit` of serve): the bond states are shared, then the edit announced.
   void announce_edit();
+  /// Rank 0's `verdict` on every rank (collective in a distributed run; `verdict` itself on one
+  /// process): a decision only rank 0 can make (its memory budget) taken by every rank alike.
+  bool agree(bool verdict) const;
   /// Rank 0: the other ranks' serve() returns (the first call; later ones do nothing).
   void release_ranks();
   /// Every row's bond states from the rank that owns the row (rank 0 announces it), for what

@@ -81,16 +81,18 @@ void Simulation::serve(const std::function<void()>& edit, const EditTask* betwee
       share_bond_states();
       continue;
     }
-    if (c == Command::Edit) {
-      if (!edit) throw EngineError("rank 0 announced an edit this rank has no editor for");
-      edit();
-      continue;
-    }
     try {
+      if (c == Command::Edit) {
+        if (!edit) throw EngineError("rank 0 announced an edit this rank has no editor for");
+        edit();
+        continue;
+      }
       step({.strain_energy = c == Command::StepWithEnergy,
             .between_relaxations = between_relaxations});
     } catch (const InstabilityError&) {
       // The same bits on rank 0 met the same check: it reports, this rank waits for its word.
+    } catch (const StoppedByRankZero&) {
+      // Rank 0 refused what it was about to do (this rank's state is unchanged): its word next.
     }
   }
 }
@@ -99,6 +101,13 @@ void Simulation::announce_edit() {
   if (!share_ || !share_->comm().root()) return;
   share_bond_states();
   share_->announce(distributed::Command::Edit);
+}
+
+bool Simulation::agree(bool verdict) const {
+  if (!share_) return verdict;
+  std::int64_t value = verdict ? 1 : 0;
+  share_->comm().broadcast(value);
+  return value != 0;
 }
 
 void Simulation::release_ranks() {

@@ -38,6 +38,13 @@ class IoError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// A distributed run's rank 0 stopped what every rank was about to do (a refinement event over
+/// the memory budget): the other ranks drop it, unchanged, and wait for rank 0's word.
+class StoppedByRankZero : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 /// An internal invariant failed (a bug, not the user's fault): exit code 1.
 class EngineError : public std::logic_error {
  public:

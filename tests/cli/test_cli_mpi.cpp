@@ -167,14 +167,16 @@ TEST_F(MpiCli, AnUnstableRunStopsOnEveryRankAndKeepsTheSerialRunsLastGoodState) 
   EXPECT_EQ(read_json(dir_ / "np3" / "summary.json").at("status"), "unstable");
 }
 
-/// Starts `mpirun -np RANKS dhpd ARGS...` in `dir` (output discarded); returns mpirun's pid.
-pid_t spawn_mpirun(const fs::path& dir, int ranks, const std::vector<std::string>& args) {
+/// Starts `mpirun -np RANKS dhpd ARGS...` in `dir` (output discarded, or stderr into `err`);
+/// returns mpirun's pid.
+pid_t spawn_mpirun(const fs::path& dir, int ranks, const std::vector<std::string>& args,
+                   const std::string& err = "/dev/null") {
   setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);  // as MpiCli::mpi, for the child to inherit
   setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
   std::vector<std::string> all{"--oversubscribe",   "-np",   std::to_string(ranks), "-x",
                                "OMP_NUM_THREADS=1", DHPD_BIN};
   all.insert(all.end(), args.begin(), args.end());
-  return spawn_program(DHPD_MPIEXEC, dir, all);
+  return spawn_program(DHPD_MPIEXEC, dir, all, "/dev/null", err);
 }
 
 /// The processes whose parent is `parent` (from /proc/*/stat).
@@ -192,6 +194,23 @@ std::vector<pid_t> children_of(pid_t parent) {
     if (rest >> state >> ppid && ppid == parent) out.push_back(std::stoi(name));
   }
   return out;
+}
+
+/// mpirun's exit code, or −1 when it has not finished within `limit` seconds (then it and its
+/// ranks are killed).
+int wait_at_most(pid_t pid, double limit) {
+  const auto deadline =
+      std::chrono::steady_clock::now() + std::chrono::milliseconds(static_cast<int>(1e3 * limit));
+  int status = 0;
+  while (std::chrono::steady_clock::now() < deadline) {
+    const pid_t done = waitpid(pid, &status, WNOHANG);
+    if (done == pid) return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  for (const auto rank : children_of(pid)) kill(rank, SIGKILL);
+  kill(pid, SIGKILL);
+  wait_for(pid);
+  return -1;
 }
 
 TEST_F(MpiCli, SigtermToEveryRankStopsWithACheckpointThatAnyRankCountContinues) {
@@ -222,6 +241,32 @@ TEST_F(MpiCli, SigtermToEveryRankStopsWithACheckpointThatAnyRankCountContinues) 
   const auto o = mpi(3, {"run", "adaptive.yaml", "-o", "again", "-q", "--restart", "sig"}, sets);
   ASSERT_EQ(o.code, 0) << o.err;
   expect_same_outputs(dir_ / "ref", dir_ / "again", "adaptive");
+}
+
+TEST_F(MpiCli, AnEventOverTheMemoryBudgetStopsEveryRankWithExitFour) {
+  // Rank 0 alone knows its memory budget: every rank takes its verdict before splitting anything,
+  // so a refused event stops the run (before, with a repartition after every event, the other
+  // ranks split on and waited in Zoltan for rank 0, which had left).
+  write("adaptive.yaml", kAdaptivePlate);
+  const std::vector<std::string> args{"run",
+                                      "adaptive.yaml",
+                                      "-o",
+                                      "np2",
+                                      "-q",
+                                      "--max-memory",
+                                      "160",
+                                      "--repartition",
+                                      "events",
+                                      "--set",
+                                      "effects.refinement.max_level=5"};
+  const pid_t pid = spawn_mpirun(dir_, 2, args, (dir_ / "np2.stderr").string());
+  const int code = wait_at_most(pid, 120.0);
+  ASSERT_NE(code, -1) << "the ranks hung";
+  const auto err = read_text(dir_ / "np2.stderr");
+  EXPECT_EQ(code, 4) << err;
+  EXPECT_EQ(count(err, "refinement stopped before splitting"), 1) << err;
+  EXPECT_EQ(read_json(dir_ / "np2" / "summary.json").at("status"), "resource_limit");
+  expect_whole_pvd(dir_ / "np2", "adaptive");
 }
 
 TEST_F(MpiCli, BadInputIsReportedOnceByRankZeroWithExitCodeTwo) {

@@ -446,7 +446,14 @@ void serve_scene(const scene::Scene& s, const RunOptions& opt) {
     refiner->refine_zones(*sim);  // as start_run on rank 0
   }
   distribute(*sim, opt, log);
-  if (refiner) refiner->prepare(*sim);
+  if (refiner) {
+    refiner->prepare(*sim);
+    // Every event waits for rank 0's verdict on its memory budget (its event check).
+    refiner->set_event_check([](const Simulation& state_now, std::size_t) {
+      if (!state_now.agree(true))
+        throw StoppedByRankZero("rank 0 refused the refinement event (memory budget)");
+    });
+  }
   // SIGINT / SIGTERM (mpirun sends them to every rank) are rank 0's to act on: it finishes the
   // step, writes its checkpoint with this rank's help and then releases it.
   std::signal(SIGINT, SIG_IGN);
@@ -497,9 +504,16 @@ void run_scene(const scene::Scene& s, const RunOptions& opt) {
   if (hook) {
     hook->refiner.prepare(*sim);  // the events' search, before the first one is timed
     // The guard's copy keeps the discretisation its step part belongs to before an event edits it.
+    // Under mpirun the other ranks take rank 0's verdict before they split anything (§25.3).
     hook->refiner.set_event_check([check = event_check(log, budget, opt.max_memory_mb.has_value()),
                                    &ctx](const Simulation& state_now, std::size_t parents) {
-      check(state_now, parents);
+      try {
+        check(state_now, parents);
+      } catch (const ResourceLimit&) {
+        state_now.agree(false);
+        throw;
+      }
+      state_now.agree(true);
       ctx.good.simulation.before_edit(state_now);
     });
     hook->events = state.refinement_events;
