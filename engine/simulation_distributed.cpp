@@ -52,9 +52,9 @@ void Simulation::distributed_state_forces(bool with_fracture) {
   const auto& rows = share_->owned();
   const std::int64_t broke = with_fracture ? break_bonds(bonds_, p_, bond_constants(), &rows) : 0;
   state_->forces(bonds_, p_, &rows, [&] {
-    const auto pass = state_->pass_fields();
-    std::vector<std::vector<double>*> fields(pass.begin(), pass.end());
-    if (with_fracture) fields.push_back(&p_.damage);
+    std::vector<distributed::FieldView> fields;
+    for (auto* field : state_->pass_fields()) fields.push_back({field->data(), 1});
+    if (with_fracture) fields.push_back({p_.damage.data(), 1});
     broken_ += share_->share_values(fields, broke);
   });
   share_->share_pass(p_.dim(), p_.force_density, nullptr, nullptr, 0);

@@ -125,16 +125,17 @@ void fit_to(std::vector<T>& v, std::size_t n, T fill) {
   if (n > v.capacity() && v.capacity() > 0) v.reserve(n + n / 2);
   v.resize(n, fill);
 }
-}  // namespace
 
-void BondRows::reserve_entries(std::size_t entries) {
-  other.reserve(entries);
-  length_index.reserve(entries);
-  flags.reserve(entries);
-  stiffness.reserve(entries);
-  if (!factor.empty()) factor.reserve(entries);
-  if (!dilatation_factor.empty()) dilatation_factor.reserve(entries);
+/// Capacity for `entries` entries in every entry array of `b`, the factor arrays when asked.
+void reserve_entries(BondRows& b, std::size_t entries, bool factors, bool dilatation) {
+  b.other.reserve(entries);
+  b.length_index.reserve(entries);
+  b.flags.reserve(entries);
+  b.stiffness.reserve(entries);
+  if (factors) b.factor.reserve(entries);
+  if (dilatation) b.dilatation_factor.reserve(entries);
 }
+}  // namespace
 
 void BondRows::fit_arena() {
   const auto n = static_cast<std::size_t>(rows.arena);
@@ -301,12 +302,9 @@ BondRows renumbered_rows(const BondRows& rows, const std::vector<std::int32_t>& 
   for (std::size_t k = 0; k < n; ++k) counts[k] = rows.rows.count[order[k]];
   b.rows = RowIndex::packed(counts);
   const bool factors = !rows.factor.empty(), dilatation = !rows.dilatation_factor.empty();
-  if (factors) b.factor.assign(1, 1.0f);  // reserve_entries sizes a non-empty one
-  if (dilatation) b.dilatation_factor.assign(1, 1.0f);
   const auto arena = static_cast<std::size_t>(b.rows.arena);
-  b.reserve_entries(arena + static_cast<std::size_t>(spare * static_cast<double>(arena)));
-  b.factor.clear();
-  b.dilatation_factor.clear();
+  reserve_entries(b, arena + static_cast<std::size_t>(spare * static_cast<double>(arena)), factors,
+                  dilatation);
   b.stiffness_scale = rows.stiffness_scale;
   b.break_ratio2.resize(n);
   b.live = b.rows.arena;

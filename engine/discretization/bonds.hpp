@@ -78,8 +78,6 @@ struct BondRows {
   /// that must grow takes half as much again (doubling would hold up to twice the arena; an
   /// eighth copied the arrays every second event of the 3D adaptive plate, 8 % slower).
   void fit_arena();
-  /// Capacity for `entries` entries in every entry array (no entry is added).
-  void reserve_entries(std::size_t entries);
   /// Bytes held by the arrays (capacities: what the allocator gave).
   std::size_t bytes() const;
 };

@@ -94,21 +94,14 @@ Command ForceShare::announce(Command c) const {
 
 std::int64_t ForceShare::share_pass(int dim, VectorArray& force, std::vector<double>* damage,
                                     std::vector<double>* row_energy, std::int64_t broken) {
-  std::vector<std::vector<double>*> fields;
-  for (int a = 0; a < dim; ++a) fields.push_back(&force[a]);
-  if (damage) fields.push_back(damage);
+  std::vector<FieldView> fields;
+  for (int a = 0; a < dim; ++a) fields.push_back({force[a].data(), 1});
+  if (damage) fields.push_back({damage->data(), 1});
   if (row_energy) {
     row_energy->resize(force[0].size());
-    fields.push_back(row_energy);
+    fields.push_back({row_energy->data(), 1});
   }
   return share_values(fields, broken);
-}
-
-std::int64_t ForceShare::share_values(const std::vector<std::vector<double>*>& fields,
-                                      std::int64_t broken) {
-  std::vector<FieldView> views;
-  for (auto* f : fields) views.push_back({f->data(), 1});
-  return share_values(views, broken);
 }
 
 std::int64_t ForceShare::share_values(const std::vector<FieldView>& fields, std::int64_t broken) {

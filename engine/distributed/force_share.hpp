@@ -67,7 +67,6 @@ class ForceShare {
                           std::vector<double>* row_energy, std::int64_t broken);
   /// Every rank gets each owned row's value of every field (each sized to the store), and the
   /// sum of `broken` over ranks.
-  std::int64_t share_values(const std::vector<std::vector<double>*>& fields, std::int64_t broken);
   std::int64_t share_values(const std::vector<FieldView>& fields, std::int64_t broken);
   /// share_pass for the rows of `rows` alone (a time level's rows, the same list on every rank):
   /// each rank computed the ones it owns (owned_of).
