@@ -33,13 +33,13 @@ class Neighbours {
 }  // namespace
 
 void add_buffer(const ParticleStore& p, double buffer, std::vector<std::uint8_t>& marked,
-                const SpatialGrid* grid) {
+                const SpatialGrid* grid, const std::vector<std::uint8_t>* skip) {
   if (buffer <= 0.0 || std::find(marked.begin(), marked.end(), 1) == marked.end()) return;
   Neighbours search(p, grid);
   const auto seeds = marked;
   std::vector<std::int32_t> near;
   for (std::size_t t = 0; t < p.size(); ++t) {
-    if (!seeds[t]) continue;
+    if (!seeds[t] || (skip && (*skip)[t])) continue;
     search.within(t, buffer * p.horizon[t], near);
     for (const auto j : near) marked[static_cast<std::size_t>(j)] = 1;
   }
@@ -109,13 +109,22 @@ std::vector<RefinementEvent> Refiner::refine_zones(Simulation& sim) {
     if (event_check_) event_check_(sim, parents.size());
     events.push_back(split(sim, parents, s_.mapping, &search_, cancelled_));
   }
+  settled_.clear();
   return events;
 }
 
+void Refiner::keep_settled_current(const Simulation& sim) {
+  if (settled_sim_ != &sim || settled_generation_ != sim.generation()) settled_.clear();
+  settled_sim_ = &sim;
+  settled_generation_ = sim.generation();
+}
+
 RefinementEvent Refiner::check(Simulation& sim) {
-  auto marked = triggered(sim, s_.trigger);
   const SpatialGrid& grid = search_.grid(sim);  // current: rebuilt only after a change
-  add_buffer(sim.particles(), s_.buffer, marked, &grid);
+  keep_settled_current(sim);
+  const auto& settled = settled_.update(sim.particles(), grid);
+  auto marked = triggered(sim, s_.trigger, &settled);
+  add_buffer(sim.particles(), s_.buffer, marked, &grid, &settled);
   keep_within(sim.particles(), s_.within, marked);
   const auto parents = graded_parents(sim, std::move(marked), s_.max_level, &grid);
   if (parents.empty()) {
@@ -124,7 +133,12 @@ RefinementEvent Refiner::check(Simulation& sim) {
     return none;
   }
   if (event_check_) event_check_(sim, parents.size());
-  return split(sim, parents, s_.mapping, &search_, cancelled_);
+  const auto& ids = sim.particles().id;
+  const std::int32_t first_new_id = *std::max_element(ids.begin(), ids.end()) + 1;
+  auto event = split(sim, parents, s_.mapping, &search_, cancelled_);
+  settled_.after_event(sim.particles(), search_.grid(sim), first_new_id);
+  settled_generation_ = sim.generation();
+  return event;
 }
 
 }  // namespace dhpd::refine

@@ -9,6 +9,7 @@
 #include "engine/simulation.hpp"
 #include "geometry/shapes.hpp"
 #include "refine/event.hpp"
+#include "refine/settled.hpp"
 #include "refine/triggers.hpp"
 
 namespace dhpd::refine {
@@ -42,10 +43,11 @@ struct Settings {
 void keep_within(const ParticleStore& p, const std::vector<geometry::Shape>& within,
                  std::vector<std::uint8_t>& marked);
 
-/// Adds to `marked` every particle within buffer × δ_t (reference positions) of a marked t.
-/// `grid`: a current search over the particles (the refiner's), else a k-d tree is built.
+/// Adds to `marked` every particle within buffer × δ_t (reference positions) of a marked t not
+/// flagged in `skip` (settled: all it would add is at max_level). `grid`: a current search over
+/// the particles (the refiner's), else a k-d tree is built.
 void add_buffer(const ParticleStore& p, double buffer, std::vector<std::uint8_t>& marked,
-                const SpatialGrid* grid = nullptr);
+                const SpatialGrid* grid = nullptr, const std::vector<std::uint8_t>* skip = nullptr);
 
 /// The parents of an event: the marked particles below max_level, plus, repeatedly, every
 /// particle two or more levels coarser than a parent's children within bond reach of them
@@ -56,7 +58,7 @@ std::vector<std::int32_t> graded_parents(const Simulation& sim, std::vector<std:
 
 class Refiner {
  public:
-  explicit Refiner(Settings s) : s_(std::move(s)) {}
+  explicit Refiner(Settings s) : s_(std::move(s)), settled_(s_.buffer, s_.max_level) {}
   const Settings& settings() const { return s_; }
 
   /// Called with the parents of each event before it is applied: the caller may log a large
@@ -87,7 +89,14 @@ class Refiner {
 
  private:
   Settings s_;
+  /// The settled particles of the discretisation `settled_generation_` of `settled_sim_` (a
+  /// guard's rollback or another simulation starts them afresh).
+  void keep_settled_current(const Simulation& sim);
+
   EventSearch search_;  ///< the incremental grid kept between events
+  SettledParticles settled_;
+  const Simulation* settled_sim_ = nullptr;
+  std::int64_t settled_generation_ = -1;
   EventCheck event_check_;
   CancelCheck cancelled_;
 };

@@ -37,11 +37,12 @@ std::vector<double> critical_energy_density(const Simulation& sim) {
 
 namespace {
 
-/// Each row's largest (|y|/|ξ|)² over its intact own bonds (0 without one): squared lengths times
-/// 1/|ξ|², as the break test forms them, no root or division per bond. Each row is its own
-/// maximum: the same for any team.
+/// Each row's largest (|y|/|ξ|)² over its intact own bonds (0 without one, or when `skip` flags
+/// it): squared lengths times 1/|ξ|², as the break test forms them, no root or division per bond.
+/// Each row is its own maximum: the same for any team.
 template <int Dim>
-void max_ratio2_rows(const Simulation& sim, std::vector<double>& out) {
+void max_ratio2_rows(const Simulation& sim, const std::vector<std::uint8_t>* skip,
+                     std::vector<double>& out) {
   const auto& p = sim.particles();
   const auto& b = sim.bonds();
   const double* const y[3] = {p.position[0].data(), p.position[1].data(), p.position[2].data()};
@@ -50,6 +51,10 @@ void max_ratio2_rows(const Simulation& sim, std::vector<double>& out) {
   for (std::int64_t i = 0; i < n; ++i) {
     const auto row = static_cast<std::size_t>(i);
     double largest = 0.0;
+    if (skip && (*skip)[row]) {
+      out[row] = largest;
+      continue;
+    }
     for (auto k = b.begin(row); k < b.end(row); ++k) {
       if (!b.own_intact(k)) continue;
       const auto j = static_cast<std::size_t>(b.other[k]);
@@ -60,17 +65,18 @@ void max_ratio2_rows(const Simulation& sim, std::vector<double>& out) {
   }
 }
 
-std::vector<double> max_ratio2(const Simulation& sim) {
+std::vector<double> max_ratio2(const Simulation& sim,
+                               const std::vector<std::uint8_t>* skip = nullptr) {
   std::vector<double> out(sim.particles().size(), 0.0);
   switch (sim.particles().dim()) {
     case 1:
-      max_ratio2_rows<1>(sim, out);
+      max_ratio2_rows<1>(sim, skip, out);
       break;
     case 2:
-      max_ratio2_rows<2>(sim, out);
+      max_ratio2_rows<2>(sim, skip, out);
       break;
     default:
-      max_ratio2_rows<3>(sim, out);
+      max_ratio2_rows<3>(sim, skip, out);
       break;
   }
   return out;
@@ -144,7 +150,8 @@ std::vector<std::uint8_t> near_a_crack(const Simulation& sim, CrackReach reach_h
   return out;
 }
 
-std::vector<std::uint8_t> triggered(const Simulation& sim, const Triggers& t) {
+std::vector<std::uint8_t> triggered(const Simulation& sim, const Triggers& t,
+                                    const std::vector<std::uint8_t>* skip) {
   const std::size_t n = sim.particles().size();
   std::vector<std::uint8_t> out(n, 0);
   if (t.damage) {  // damage is current: the stepper refreshes it where bonds break
@@ -160,7 +167,7 @@ std::vector<std::uint8_t> triggered(const Simulation& sim, const Triggers& t) {
   }
   if (t.stretch) {
     // s ≥ t·s0 compared on squared ratios: (|y|/|ξ|)² ≥ (1 + t·s0)².
-    const auto ratio2 = max_ratio2(sim);
+    const auto ratio2 = max_ratio2(sim, skip);
     std::vector<std::uint8_t> over(n, 0);
     for (std::size_t i = 0; i < n; ++i)
       over[i] = !out[i] && ratio2[i] > 0.0 &&

@@ -50,7 +50,9 @@ std::vector<double> critical_energy_density(const Simulation& sim);
 /// Largest stretch over each particle's intact own bonds (0 when it has none).
 std::vector<double> max_bond_stretch(const Simulation& sim);
 
-/// 1 for every particle that reaches a threshold (damage is recomputed first).
-std::vector<std::uint8_t> triggered(const Simulation& sim, const Triggers& t);
+/// 1 for every particle that reaches a threshold (damage is recomputed first). Particles flagged
+/// in `skip` (settled, refine/settled.hpp) are not tested for stretch.
+std::vector<std::uint8_t> triggered(const Simulation& sim, const Triggers& t,
+                                    const std::vector<std::uint8_t>* skip = nullptr);
 
 }  // namespace dhpd::refine
