@@ -123,7 +123,7 @@ RefinementEvent Refiner::check(Simulation& sim) {
   const SpatialGrid& grid = search_.grid(sim);  // current: rebuilt only after a change
   keep_settled_current(sim);
   const auto& settled = settled_.update(sim.particles(), grid);
-  auto marked = triggered(sim, s_.trigger, &settled);
+  auto marked = triggered(sim, s_.trigger, {s_.max_level, &settled});
   add_buffer(sim.particles(), s_.buffer, marked, &grid, &settled);
   keep_within(sim.particles(), s_.within, marked);
   const auto parents = graded_parents(sim, std::move(marked), s_.max_level, &grid);

@@ -150,8 +150,12 @@ std::vector<std::uint8_t> near_a_crack(const Simulation& sim, CrackReach reach_h
   return out;
 }
 
+double stretch_threshold(double stretch, int level, int max_level) {
+  return std::pow(stretch, std::max(1, max_level - level));
+}
+
 std::vector<std::uint8_t> triggered(const Simulation& sim, const Triggers& t,
-                                    const std::vector<std::uint8_t>* skip) {
+                                    const TriggerScope& scope) {
   const std::size_t n = sim.particles().size();
   std::vector<std::uint8_t> out(n, 0);
   if (t.damage) {  // damage is current: the stepper refreshes it where bonds break
@@ -167,14 +171,16 @@ std::vector<std::uint8_t> triggered(const Simulation& sim, const Triggers& t,
   }
   if (t.stretch) {
     // s ≥ t·s0 compared on squared ratios: (|y|/|ξ|)² ≥ (1 + t·s0)².
-    const auto ratio2 = max_ratio2(sim, skip);
+    const auto ratio2 = max_ratio2(sim, scope.skip);
+    const auto& level = sim.particles().level;
     std::vector<std::uint8_t> over(n, 0);
-    for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t i = 0; i < n; ++i) {
+      const double s = stretch_threshold(*t.stretch, level[i], scope.max_level);
       over[i] = !out[i] && ratio2[i] > 0.0 &&
-                        bond_law::reaches_critical_stretch(ratio2[i],
-                                                           *t.stretch * sim.critical_stretch()[i])
+                        bond_law::reaches_critical_stretch(ratio2[i], s * sim.critical_stretch()[i])
                     ? 1
                     : 0;
+    }
     if (t.near_crack)
       over = near_a_crack(sim, {*t.near_crack, t.near_precrack.value_or(*t.near_crack)},
                           std::move(over));

@@ -50,9 +50,21 @@ std::vector<double> critical_energy_density(const Simulation& sim);
 /// Largest stretch over each particle's intact own bonds (0 when it has none).
 std::vector<double> max_bond_stretch(const Simulation& sim);
 
-/// 1 for every particle that reaches a threshold (damage is recomputed first). Particles flagged
-/// in `skip` (settled, refine/settled.hpp) are not tested for stretch.
+/// What the refiner adds to the thresholds: its level limit and the particles it need not test.
+struct TriggerScope {
+  /// A particle k ≥ 1 levels below max_level is tested against stretch^k s0 (docs/theory.md
+  /// (13.3)): each split still to go needs its own lead on the crack.
+  int max_level = 1;
+  /// Flagged particles (settled, refine/settled.hpp) are not tested for stretch.
+  const std::vector<std::uint8_t>* skip = nullptr;
+};
+
+/// 1 for every particle that reaches a threshold (damage is recomputed first).
 std::vector<std::uint8_t> triggered(const Simulation& sim, const Triggers& t,
-                                    const std::vector<std::uint8_t>* skip = nullptr);
+                                    const TriggerScope& scope = {});
+
+/// The stretch threshold of a particle at `level` (s* the scene's): s*^k for k = max_level −
+/// level ≥ 1 splits still to go, s* itself at or above max_level.
+double stretch_threshold(double stretch, int level, int max_level);
 
 }  // namespace dhpd::refine

@@ -44,5 +44,33 @@ TEST(Refinement, EnergyAndStretchTriggersAtUniformCriticalStretch) {
   on = refine::triggered(sim, t);
   EXPECT_EQ(std::count(on.begin(), on.end(), 1), 0);
 }
+TEST(Refinement, StretchThresholdTightensWithTheLevelsStillToGo) {
+  // Every bond of a uniform lattice stretched to f s0: with s* = 0.8, a particle one split from
+  // max_level triggers from 0.8 s0, two splits away from 0.64 s0, three away from 0.512 s0.
+  EXPECT_DOUBLE_EQ(refine::stretch_threshold(0.8, 0, 1), 0.8);
+  EXPECT_DOUBLE_EQ(refine::stretch_threshold(0.8, 0, 3), 0.8 * 0.8 * 0.8);
+  EXPECT_DOUBLE_EQ(refine::stretch_threshold(0.8, 2, 3), 0.8);
+  EXPECT_DOUBLE_EQ(refine::stretch_threshold(0.8, 3, 3), 0.8);  // at max_level: never split
+  auto s = plate(1e-3, 0.02, 0.02);
+  const double s0 = critical_stretch(s.materials[0], s.section, 3.015e-3);
+  refine::Triggers t;
+  t.stretch = 0.8;
+  for (const double f : {0.7, 0.6}) {
+    InitialCondition ic;
+    ic.region = Box{{0, 0, 0}, {0.02, 0.02, 0}};
+    ic.strain = geometry::Vec3{f * s0, f * s0, 0};
+    ic.origin = {0.01, 0.01, 0};
+    s.initial_conditions = {ic};
+    Simulation sim(s);
+    const long n = static_cast<long>(sim.particles().size());
+    for (const int max_level : {1, 2, 3}) {
+      const auto on = refine::triggered(sim, t, {max_level, nullptr});
+      const bool expected = f >= refine::stretch_threshold(0.8, 0, max_level);
+      EXPECT_EQ(std::count(on.begin(), on.end(), 1), expected ? n : 0)
+          << "stretch " << f << " s0, max_level " << max_level;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace dhpd

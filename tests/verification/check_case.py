@@ -2,12 +2,13 @@
 """Runs one full paper case and checks its summary.json against the published ranges (issue 5).
 
     check_case.py --dhpd BIN --out DIR CASE.yaml --range KEY MIN MAX [--range ...] [--below KEY KEY]
-                  [--clean-events-before T]
+                  [--clean-events-before T] [--set KEY=VALUE ...]
 
 KEY is a path into summary.json: `particles_end`, `cracks.0.angle_deg`, `cracks.1.initiation_time`,
 `cracks.0.branch_times.0`, `rayleigh_speed`. `--below A B` asserts A < B (tip speed below c_R).
 `--clean-events-before T` asserts that at least one refinement event happened before T s and that
 none of them started a bond broken (refinement.csv: started_broken and started_overstretched 0).
+`--set` passes a scene override to the run (a variant of a shipped case).
 These runs take minutes, so they carry the ctest label `verification` and `tools/dhpd test`
 leaves them out; run them with `ctest --test-dir build -L verification`.
 """
@@ -46,9 +47,12 @@ def main():
                         metavar=("KEY", "MIN", "MAX"))
     parser.add_argument("--below", nargs=2, action="append", default=[], metavar=("A", "B"))
     parser.add_argument("--clean-events-before", type=float, metavar="T")
+    parser.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
     args = parser.parse_args()
     # --overwrite: a second `ctest -L verification` replaces the previous run of the case.
-    run = subprocess.run([args.dhpd, "run", args.case, "--out", args.out, "--quiet", "--overwrite"])
+    overrides = [x for kv in args.set for x in ("--set", kv)]
+    run = subprocess.run([args.dhpd, "run", args.case, "--out", args.out, "--quiet", "--overwrite"]
+                         + overrides)
     if run.returncode != 0:
         sys.exit(f"{args.case}: dhpd run failed with exit code {run.returncode}")
     with open(os.path.join(args.out, "summary.json")) as f:
