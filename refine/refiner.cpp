@@ -113,15 +113,21 @@ std::vector<RefinementEvent> Refiner::refine_zones(Simulation& sim) {
   return events;
 }
 
-void Refiner::keep_settled_current(const Simulation& sim) {
-  if (settled_sim_ != &sim || settled_generation_ != sim.generation()) settled_.clear();
+bool Refiner::settled_current(const Simulation& sim) const {
+  return settled_sim_ == &sim && settled_generation_ == sim.generation() &&
+         settled_particles_ == sim.particles().size();
+}
+
+void Refiner::mark_settled_current(const Simulation& sim) {
   settled_sim_ = &sim;
   settled_generation_ = sim.generation();
+  settled_particles_ = sim.particles().size();
 }
 
 RefinementEvent Refiner::check(Simulation& sim) {
   const SpatialGrid& grid = search_.grid(sim);  // current: rebuilt only after a change
-  keep_settled_current(sim);
+  if (!settled_current(sim)) settled_.clear();
+  mark_settled_current(sim);
   const auto& settled = settled_.update(sim.particles(), grid);
   auto marked = triggered(sim, s_.trigger, {s_.max_level, &settled});
   add_buffer(sim.particles(), s_.buffer, marked, &grid, &settled);
@@ -137,7 +143,7 @@ RefinementEvent Refiner::check(Simulation& sim) {
   const std::int32_t first_new_id = *std::max_element(ids.begin(), ids.end()) + 1;
   auto event = split(sim, parents, s_.mapping, &search_, cancelled_);
   settled_.after_event(sim.particles(), search_.grid(sim), first_new_id);
-  settled_generation_ = sim.generation();
+  mark_settled_current(sim);  // the event's own change: the memo followed it
   return event;
 }
 

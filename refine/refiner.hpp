@@ -88,15 +88,18 @@ class Refiner {
   RefinementEvent check(Simulation& sim);
 
  private:
-  Settings s_;
-  /// The settled particles of the discretisation `settled_generation_` of `settled_sim_` (a
-  /// guard's rollback or another simulation starts them afresh).
-  void keep_settled_current(const Simulation& sim);
+  /// Whether `sim` is the simulation and discretisation the settled particles were last brought
+  /// up to date in (a guard's rollback, or another simulation, starts them afresh).
+  bool settled_current(const Simulation& sim) const;
+  void mark_settled_current(const Simulation& sim);
 
+  Settings s_;
   EventSearch search_;  ///< the incremental grid kept between events
   SettledParticles settled_;
+  /// Where settled_ was last brought up to date: simulation, generation, particle count.
   const Simulation* settled_sim_ = nullptr;
   std::int64_t settled_generation_ = -1;
+  std::size_t settled_particles_ = 0;
   EventCheck event_check_;
   CancelCheck cancelled_;
 };
