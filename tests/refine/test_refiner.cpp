@@ -38,14 +38,7 @@ TEST(Refinement, GradingKeepsNeighboursWithinOneLevel) {
 TEST(Refinement, TriggersSplitOnlyWithinTheGivenRegions) {
   // A plate strained uniformly to 0.6 s0: the stretch trigger (0.5 s0) marks every particle;
   // `within` keeps the split to the left half, buffer included.
-  auto s = plate(1e-3, 0.02, 0.01);
-  s.materials[0].G0 = 135.0;
-  Simulation probe(s);
-  const double s0 = probe.critical_stretch()[0];
-  InitialCondition ic;
-  ic.region = Box{{0, 0, 0}, {0.02, 0.01, 0}};
-  ic.strain = geometry::Vec3{0.6 * s0, 0.6 * s0, 0};
-  s.initial_conditions = {ic};
+  const auto s = test::strained_plate(0.02, 0.01, 0.6);
   refine::Settings set;
   set.trigger.stretch = 0.5;
   set.buffer = 2.0;

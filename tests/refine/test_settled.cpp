@@ -94,13 +94,7 @@ TEST(SettledParticles, TheRefinerPicksTheParentsItWouldWithoutThem) {
   // reaches the stretch trigger (0.5 s0), settled ones included. The refiner skips the settled
   // ones' stretch test and buffer; the full selection, run on an identical simulation, splits
   // the same parents.
-  auto s = plate(1e-3, 0.02, 0.02);
-  s.materials[0].G0 = 135.0;
-  const double s0 = Simulation(s).critical_stretch()[0];
-  InitialCondition ic;
-  ic.region = Box{{0, 0, 0}, {0.02, 0.02, 0}};
-  ic.strain = geometry::Vec3{0.6 * s0, 0.6 * s0, 0};
-  s.initial_conditions = {ic};
+  const auto s = test::strained_plate(0.02, 0.02, 0.6);
   refine::Settings set;
   set.trigger.stretch = 0.5;
   set.buffer = 1.0;

@@ -26,6 +26,18 @@ inline SimulationSetup plate(double dx, double lx, double ly) {
   return s;
 }
 
+/// plate(1 mm, lx, ly) strained uniformly (biaxially) to `fraction` of its bonds' critical
+/// stretch at the start: every bond's stretch is fraction × s0.
+inline SimulationSetup strained_plate(double lx, double ly, double fraction) {
+  auto s = plate(1e-3, lx, ly);
+  const double s0 = Simulation(s).critical_stretch()[0];
+  InitialCondition ic;
+  ic.region = Box{{0, 0, 0}, {lx, ly, 0}};
+  ic.strain = geometry::Vec3{fraction * s0, fraction * s0, 0};
+  s.initial_conditions = {ic};
+  return s;
+}
+
 /// The 50 mm × 20 mm plate with a 25 mm pre-crack at mid-height, ±12 MPa on its top and bottom
 /// millimetre (zero net force), no-fail edge strips and fracture on.
 inline SimulationSetup pulled_cracked_plate(double dx) {
