@@ -182,7 +182,8 @@ void Simulation::compute_forces(bool with_fracture, std::vector<double>* row_ene
     } else if (share_) {
       distributed_forces(with_fracture, row_energy, side);
     } else if (with_fracture)
-      broken_ += force_and_break(bonds_, p_, bond_constants(), row_energy, &kernel_points_, side);
+      broken_ += force_and_break(bonds_, p_, bond_constants(), row_energy, &kernel_points_, side,
+                                 nullptr, stretch_watch_into(watch_.hit));
     else
       internal_force_density(bonds_, p_, nullptr, row_energy, &kernel_points_, side);
   }
@@ -221,7 +222,12 @@ void Simulation::step(StepExtras extras) {
     update_prescribed_velocity(loads_, setup_.boundary_conditions, time_, dt_);
     external_work_ += held_kinetic_energy() - before;
   }
+  watch_.current = false;
   const double body_work = levels_ ? multirate_step(extras, evaluated) : verlet_step(extras);
+  if (watching_stretch() && setup_.effects.fracture && !state_based() && !share_) {
+    if (levels_) merge_level_watch();
+    watch_.current = true;
+  }
   finish_step(body_work);
   bond_updates_ += evaluated;
   if (extras.strain_energy && !levels_ && !state_based()) {

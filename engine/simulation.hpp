@@ -123,6 +123,19 @@ class Simulation {
   /// is on; nothing otherwise.
   void relevel();
 
+  /// The stretch watch (docs/theory.md §13.1): from the next step on, the steps' force passes flag
+  /// each row with an own bond, intact after the pass's breaks, whose squared stretch ratio reached
+  /// limit_ratio2[i] (one per particle). Any change of the
+  /// discretisation (an edit, a renumbering) or a loaded state drops it.
+  void watch_stretch(std::vector<double> limit_ratio2);
+  bool watching_stretch() const { return !watch_.limit.empty(); }
+  /// Per particle, 1 where the last step's force passes saw such a bond; null when they are not
+  /// of the current state (no step since the watch was set or the state loaded) or the passes do
+  /// not watch (fracture off, statics, the state-based families, a distributed run).
+  const std::vector<std::uint8_t>* stretch_watch_hits() const {
+    return watch_.current ? &watch_.hit : nullptr;
+  }
+
   /// Energies and momentum of the current state (deterministic sums).
   Energies energies();
   /// Whether energies() takes the strain energy from the last step's force pass (that step asked
@@ -418,6 +431,20 @@ class Simulation {
   LevelCounts level_counts_;              ///< not archived: this process's steps
   std::vector<double> load_start_;        ///< multirate_step scratch: loaded displacements
   std::vector<std::int32_t> level_rows_;  ///< level_forces scratch: this rank's rows of a level
+  /// The stretch watch (watch_stretch): limits, the hits of the last step (per level under time
+  /// levels, then merged), and whether they are the current state's. Not archived.
+  struct WatchState {
+    std::vector<double> limit;
+    std::vector<std::uint8_t> hit, level_hit;
+    bool current = false;
+  };
+  WatchState watch_;
+  /// The watch for a force pass writing `hits` (empty when the passes do not watch).
+  kernel::StretchWatch stretch_watch_into(std::vector<std::uint8_t>& hits);
+  /// The same for a pass over time level `level`'s segments (its own hits, merged after the step).
+  kernel::StretchWatch level_stretch_watch(int level);
+  void merge_level_watch();
+  void drop_stretch_watch() { watch_ = {}; }
   /// The strain energy a step's force pass computed, valid while steps_, generation_ and
   /// layout_version_ are still those it was computed at (not part of the state).
   struct FusedEnergy {

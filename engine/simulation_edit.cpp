@@ -66,6 +66,7 @@ std::int32_t Simulation::take_ids(std::size_t n) {
 EditOutcome Simulation::commit_edit(const DiscretisationChange& change,
                                     std::int64_t broken_bonds_change) {
   if (!edit_) throw EngineError("commit_edit without begin_edit");
+  drop_stretch_watch();  // new particles and rows: the watcher sets new limits
   EditOutcome out;
   const auto& dirty = change.changed_rows;
   broken_ += broken_bonds_change;
@@ -138,6 +139,7 @@ double Simulation::compact() {
 
 void Simulation::renumber() {
   auto t = timers_.scope(Phase::Refine);
+  drop_stretch_watch();  // its limits are by index
   const std::size_t n = p_.size();
   std::vector<geometry::Vec3> where(n);
   for (std::size_t i = 0; i < n; ++i) where[i] = point_of(p_.reference_position, i);

@@ -35,6 +35,7 @@ void Simulation::plan_levels() {
   auto choice = choose_levels();
   if (choice.count == 1 || !std::is_sorted(choice.level.begin(), choice.level.end())) return;
   levels_ = plan_time_levels(bonds_, p_, std::move(choice));
+  watch_.level_hit.clear();  // new segments: each level's hits start from 0
   dt_ = levels_->dt0;
   kernel::pack_points(p_, kernel_points_.xyzv);
   kernel_points_.fresh = false;
@@ -161,7 +162,7 @@ void Simulation::level_forces(int l, bool fracture, const SideTask* side) {
     } else {
       broken_ += segment_forces(bonds_, p_, fracture ? &constants : nullptr,
                                 {plan.rows, plan.start.data(), plan.count.data(), plan.force},
-                                kernel_points_.xyzv, side);
+                                kernel_points_.xyzv, side, level_stretch_watch(l));
     }
     level_evaluations_ += plan.own_bonds;
     if (static_cast<std::size_t>(l) < level_counts_.evaluated.size())

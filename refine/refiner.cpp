@@ -124,16 +124,28 @@ void Refiner::mark_settled_current(const Simulation& sim) {
   settled_particles_ = sim.particles().size();
 }
 
+const std::vector<std::uint8_t>* Refiner::stretch_hits(const Simulation& sim) const {
+  return s_.trigger.stretch ? sim.stretch_watch_hits() : nullptr;
+}
+
+void Refiner::watch_stretch(Simulation& sim) const {
+  // Set once per discretisation (the stepper drops it at every change): the steps from here on
+  // flag what the next checks would find (docs/theory.md §13.1).
+  if (s_.trigger.stretch && !sim.watching_stretch())
+    sim.watch_stretch(stretch_limits(sim, *s_.trigger.stretch, s_.max_level));
+}
+
 RefinementEvent Refiner::check(Simulation& sim) {
   const SpatialGrid& grid = search_.grid(sim);  // current: rebuilt only after a change
   if (!settled_current(sim)) settled_.clear();
   mark_settled_current(sim);
   const auto& settled = settled_.update(sim.particles(), grid);
-  auto marked = triggered(sim, s_.trigger, {s_.max_level, &settled});
+  auto marked = triggered(sim, s_.trigger, {s_.max_level, &settled, stretch_hits(sim)});
   add_buffer(sim.particles(), s_.buffer, marked, &grid, &settled);
   keep_within(sim.particles(), s_.within, marked);
   const auto parents = graded_parents(sim, std::move(marked), s_.max_level, &grid);
   if (parents.empty()) {
+    watch_stretch(sim);
     RefinementEvent none;
     none.generation = sim.generation();
     return none;
@@ -144,6 +156,7 @@ RefinementEvent Refiner::check(Simulation& sim) {
   auto event = split(sim, parents, s_.mapping, &search_, cancelled_);
   settled_.after_event(sim.particles(), search_.grid(sim), first_new_id);
   mark_settled_current(sim);  // the event's own change: the memo followed it
+  watch_stretch(sim);
   return event;
 }
 

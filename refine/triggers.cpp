@@ -154,6 +154,15 @@ double stretch_threshold(double stretch, int level, int max_level) {
   return std::pow(stretch, std::max(1, max_level - level));
 }
 
+std::vector<double> stretch_limits(const Simulation& sim, double stretch, int max_level) {
+  const auto& level = sim.particles().level;
+  std::vector<double> out(level.size());
+  for (std::size_t i = 0; i < out.size(); ++i)
+    out[i] = bond_law::critical_ratio2(stretch_threshold(stretch, level[i], max_level) *
+                                       sim.critical_stretch()[i]);
+  return out;
+}
+
 std::vector<std::uint8_t> triggered(const Simulation& sim, const Triggers& t,
                                     const TriggerScope& scope) {
   const std::size_t n = sim.particles().size();
@@ -170,16 +179,16 @@ std::vector<std::uint8_t> triggered(const Simulation& sim, const Triggers& t,
       if (crit[i] > 0.0 && w[i] >= *t.energy * crit[i]) out[i] = 1;
   }
   if (t.stretch) {
-    // s ≥ t·s0 compared on squared ratios: (|y|/|ξ|)² ≥ (1 + t·s0)².
-    const auto ratio2 = max_ratio2(sim, scope.skip);
-    const auto& level = sim.particles().level;
     std::vector<std::uint8_t> over(n, 0);
-    for (std::size_t i = 0; i < n; ++i) {
-      const double s = stretch_threshold(*t.stretch, level[i], scope.max_level);
-      over[i] = !out[i] && ratio2[i] > 0.0 &&
-                        bond_law::reaches_critical_stretch(ratio2[i], s * sim.critical_stretch()[i])
-                    ? 1
-                    : 0;
+    if (const auto* hits = scope.stretch_hits) {  // the last step's force passes watched
+      for (std::size_t i = 0; i < n; ++i)
+        over[i] = !out[i] && (*hits)[i] && !(scope.skip && (*scope.skip)[i]) ? 1 : 0;
+    } else {
+      // s ≥ t·s0 compared on squared ratios: (|y|/|ξ|)² ≥ (1 + t·s0)².
+      const auto ratio2 = max_ratio2(sim, scope.skip);
+      const auto limit = stretch_limits(sim, *t.stretch, scope.max_level);
+      for (std::size_t i = 0; i < n; ++i)
+        over[i] = !out[i] && ratio2[i] > 0.0 && ratio2[i] >= limit[i] ? 1 : 0;
     }
     if (t.near_crack)
       over = near_a_crack(sim, {*t.near_crack, t.near_precrack.value_or(*t.near_crack)},

@@ -57,11 +57,18 @@ struct TriggerScope {
   int max_level = 1;
   /// Flagged particles (settled, refine/settled.hpp) are not tested for stretch.
   const std::vector<std::uint8_t>* skip = nullptr;
+  /// The stepper's stretch watch of the current state (Simulation::stretch_watch_hits, limits
+  /// from stretch_limits): read instead of a pass over every bond, with the same verdicts.
+  const std::vector<std::uint8_t>* stretch_hits = nullptr;
 };
 
 /// 1 for every particle that reaches a threshold (damage is recomputed first).
 std::vector<std::uint8_t> triggered(const Simulation& sim, const Triggers& t,
                                     const TriggerScope& scope = {});
+
+/// Per particle, the squared stretch ratio (1 + s s0_i)² at which the stretch trigger fires, s
+/// the particle's stretch_threshold.
+std::vector<double> stretch_limits(const Simulation& sim, double stretch, int max_level);
 
 /// The stretch threshold of a particle at `level` (s* the scene's): s*^k for k = max_level −
 /// level ≥ 1 splits still to go, s* itself at or above max_level.

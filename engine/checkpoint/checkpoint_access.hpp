@@ -127,6 +127,7 @@ struct CheckpointAccess {
   }
 
   static void load_fields(Simulation& s, archive::Reader& ar, bool state_only = false) {
+    s.drop_stretch_watch();  // the hits were of the positions overwritten here
     std::int32_t dim = 0;
     ar(dim);
     if (dim != s.p_.dim())

@@ -176,8 +176,9 @@ void internal_force_density(const BondRows& b, ParticleStore& p,
 
 std::int64_t force_and_break(BondRows& b, ParticleStore& p, const BondConstants& c,
                              std::vector<double>* row_energy, kernel::PackedPoints* points,
-                             const SideTask* side, const std::vector<std::int32_t>* rows) {
-  const kernel::Breaking w{&b, &c};
+                             const SideTask* side, const std::vector<std::int32_t>* rows,
+                             const kernel::StretchWatch& watch) {
+  const kernel::Breaking w{&b, &c, watch};
   return with_dim(p.dim(), [&](auto d) {
     return force_rows_with<d(), true>(b, w, p, rows, row_energy, points, side);
   });
@@ -207,8 +208,8 @@ std::int64_t break_bonds(BondRows& b, ParticleStore& p, const BondConstants& c,
 
 std::int64_t segment_forces(BondRows& b, ParticleStore& p, const BondConstants* c,
                             const RowSegments& seg, const std::vector<double>& points,
-                            const SideTask* side) {
-  const kernel::Breaking w{&b, c};
+                            const SideTask* side, const kernel::StretchWatch& watch) {
+  const kernel::Breaking w{&b, c, c ? watch : kernel::StretchWatch{}};
   return with_dim(p.dim(), [&](auto d) {
     return c ? segment_rows<d(), true>(b, w, p, seg, points, side)
              : segment_rows<d(), false>(b, w, p, seg, points, side);

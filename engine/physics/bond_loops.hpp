@@ -37,7 +37,8 @@ void internal_force_density(const BondRows& bonds, ParticleStore& p,
 std::int64_t force_and_break(BondRows& bonds, ParticleStore& p, const BondConstants& c,
                              std::vector<double>* row_energy = nullptr,
                              kernel::PackedPoints* points = nullptr, const SideTask* side = nullptr,
-                             const std::vector<std::int32_t>* rows = nullptr);
+                             const std::vector<std::int32_t>* rows = nullptr,
+                             const kernel::StretchWatch& watch = {});
 
 /// The break test alone (no forces), for the state-based family, whose forces need every
 /// particle's dilatation after the breaks: each intact bond whose stretch reached its owner's s0
@@ -62,7 +63,7 @@ struct RowSegments {
 /// the bonds broken; `side` as internal_force_density.
 std::int64_t segment_forces(BondRows& bonds, ParticleStore& p, const BondConstants* c,
                             const RowSegments& seg, const std::vector<double>& points,
-                            const SideTask* side = nullptr);
+                            const SideTask* side = nullptr, const kernel::StretchWatch& watch = {});
 
 /// φ_i = 1 − Σ μ β V_j / Σ β V_j over own bonds (docs/theory.md §8); written to p.damage.
 /// With `subset`, only those particles are updated.

@@ -3,6 +3,7 @@
 #include "engine/base/parallel.hpp"
 #include "engine/physics/bond_law.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -34,9 +35,20 @@ inline double coefficient_of(const RowArrays& r, std::int64_t k, std::int32_t j)
 
 /// One entry in plain arithmetic: the same operations as a lane of the AVX2 build. With Energy,
 /// the entry's c s² |ξ| (after its break test) is added to `energy`.
+/// Whether one of the `n` entries from k, with squared ratios ratio2, is an own bond still intact
+/// at or beyond row i's watch limit (StretchWatch). Out of line: only stretched rows get here.
+[[gnu::noinline, gnu::cold]] bool watched(std::int64_t i, std::int64_t k, int n,
+                                          const double ratio2[], const RowArrays& r,
+                                          const Breaking& w) {
+  for (int t = 0; t < n; ++t)
+    if (ratio2[t] >= w.watch.limit_ratio2[i] && (r.flags[k + t] & kOwnIntact)) return true;
+  return false;
+}
+
 template <int Dim, bool Fracture, bool Energy>
 inline int entry(std::int64_t i, std::int64_t k, const double yi[Dim], const Fields& x,
-                 const RowArrays& r, const Breaking& w, double lane[Dim], double& energy) {
+                 const RowArrays& r, const Breaking& w, double lane[Dim], double& energy,
+                 bool& seen) {
   const std::int32_t j = r.other[k];
   double dx[Dim], l2 = 0.0;
   for (int a = 0; a < Dim; ++a) dx[a] = x.y[a][j] - yi[a], l2 += dx[a] * dx[a];
@@ -45,6 +57,8 @@ inline int entry(std::int64_t i, std::int64_t k, const double yi[Dim], const Fie
     const double ratio2 = bond_law::stretch_ratio2(l2, r.inverse_length(k));
     if (ratio2 >= r.break_ratio2[i] && has_intact(r.flags[k])) [[unlikely]]
       broken = break_entry(*w.rows, static_cast<std::size_t>(i), k, ratio2, *w.constants);
+    if (w.watch.hit && !seen && ratio2 >= w.watch.limit_ratio2[i]) [[unlikely]]
+      seen = watched(i, k, 1, &ratio2, r, w);
   }
   const double c = coefficient_of(r, k, j);
   const double s = c * (r.inverse_length(k) - 1.0 / std::sqrt(l2));
@@ -78,7 +92,8 @@ inline void write_force(std::int64_t i, const Fields& x, const double lanes[Dim]
 /// Entries [from, end) of row i in plain arithmetic, entry k into lane (k − row start) mod 4.
 template <int Dim, bool Fracture, bool Energy>
 std::int64_t plain_entries(std::int64_t i, std::int64_t from, const Fields& x, const RowArrays& r,
-                           const Breaking& w, double lanes[Dim][4], double energy_lanes[4]) {
+                           const Breaking& w, double lanes[Dim][4], double energy_lanes[4],
+                           bool& seen) {
   double yi[Dim];
   for (int a = 0; a < Dim; ++a) yi[a] = x.y[a][i];
   std::int64_t broken = 0;
@@ -87,7 +102,7 @@ std::int64_t plain_entries(std::int64_t i, std::int64_t from, const Fields& x, c
     const auto t = static_cast<int>((k - begin) & 3);
     double lane[Dim];
     for (int a = 0; a < Dim; ++a) lane[a] = lanes[a][t];
-    broken += entry<Dim, Fracture, Energy>(i, k, yi, x, r, w, lane, energy_lanes[t]);
+    broken += entry<Dim, Fracture, Energy>(i, k, yi, x, r, w, lane, energy_lanes[t], seen);
     for (int a = 0; a < Dim; ++a) lanes[a][t] = lane[a];
   }
   return broken;
@@ -123,9 +138,11 @@ double energy_plain(std::int64_t i, const double* const y[3], const RowArrays& r
 template <int Dim, bool Fracture, bool Energy>
 std::int64_t row_plain(std::int64_t i, const Fields& x, const RowArrays& r, const Breaking& w) {
   double lanes[Dim][4] = {}, energy_lanes[4] = {0.0, 0.0, 0.0, 0.0};
+  bool seen = false;
   const auto broken =
-      plain_entries<Dim, Fracture, Energy>(i, r.start[i], x, r, w, lanes, energy_lanes);
+      plain_entries<Dim, Fracture, Energy>(i, r.start[i], x, r, w, lanes, energy_lanes, seen);
   write_force<Dim, Energy>(i, x, lanes, energy_lanes);
+  if (Fracture && w.watch.hit) w.watch.hit[i] = seen ? 1 : 0;
   return broken;
 }
 
@@ -183,7 +200,7 @@ inline __m256d intact_lanes(const RowArrays& r, std::int64_t k) {
 template <int Dim, bool Fracture, bool Energy>
 std::int64_t tail_avx2(std::int64_t i, std::int64_t k, int rest, const __m256d yi[Dim],
                        const Fields& x, const RowArrays& r, const Breaking& w, __m256d acc[Dim],
-                       __m256d& energy) {
+                       __m256d& energy, bool& seen) {
   const auto self = static_cast<std::int32_t>(i);
   std::int32_t j[4] = {self, self, self, self};
   alignas(32) double inv_lanes[4] = {1.0, 1.0, 1.0, 1.0};
@@ -208,6 +225,7 @@ std::int64_t tail_avx2(std::int64_t i, std::int64_t k, int rest, const __m256d y
       if (ratios[t] >= r.break_ratio2[i] && has_intact(r.flags[k + t])) hit |= 1 << t;
     if (hit) [[unlikely]]
       broken = break_block(i, k, hit, ratios, w);
+    if (w.watch.hit && !seen) seen = watched(i, k, rest, ratios, r, w);
   }
   alignas(16) float K[4] = {0.0f, 0.0f, 0.0f, 0.0f};  // read after the breaks
   for (int t = 0; t < rest; ++t) K[t] = r.stiffness[k + t];
@@ -235,7 +253,14 @@ std::int64_t row_avx2(std::int64_t i, const Fields& x, const RowArrays& r, const
   const double* inverse_lengths = r.inverse_lengths;
   const float* stiffness = r.stiffness;
   const __m256d scale = _mm256_set1_pd(r.scale), one = _mm256_set1_pd(1.0);
-  const __m256d limit = _mm256_set1_pd(r.break_ratio2[i]);
+  // Watching, the fast test is against the lower watch limit; the slow path then sorts out the
+  // breaks (at the row's own limit) and the watch.
+  const double break_limit = r.break_ratio2[i];
+  const bool watching = Fracture && w.watch.hit != nullptr;
+  const __m256d breaking = _mm256_set1_pd(break_limit);
+  const __m256d limit =
+      watching ? _mm256_set1_pd(std::min(break_limit, w.watch.limit_ratio2[i])) : breaking;
+  bool seen = false;
   __m256d yi[Dim], acc[Dim], energy = _mm256_setzero_pd();
   for (int a = 0; a < Dim; ++a) yi[a] = _mm256_set1_pd(x.y[a][i]), acc[a] = _mm256_setzero_pd();
   std::int64_t broken = 0;
@@ -254,11 +279,13 @@ std::int64_t row_avx2(std::int64_t i, const Fields& x, const RowArrays& r, const
       const __m256d ratio2 = _mm256_mul_pd(_mm256_mul_pd(l2, inv), inv);
       const __m256d over = _mm256_cmp_pd(ratio2, limit, _CMP_GE_OQ);
       if (_mm256_movemask_pd(over)) [[unlikely]] {
-        const int hit = _mm256_movemask_pd(_mm256_and_pd(over, intact_lanes(r, k)));
-        if (hit) {
+        const __m256d breaks = watching ? _mm256_cmp_pd(ratio2, breaking, _CMP_GE_OQ) : over;
+        const int hit = _mm256_movemask_pd(_mm256_and_pd(breaks, intact_lanes(r, k)));
+        if (hit || (watching && !seen)) {
           alignas(32) double ratios[4];
           _mm256_store_pd(ratios, ratio2);
-          broken += break_block(i, k, hit, ratios, w);
+          if (hit) broken += break_block(i, k, hit, ratios, w);
+          if (watching && !seen) seen = watched(i, k, 4, ratios, r, w);
         }
       }
     }
@@ -274,11 +301,12 @@ std::int64_t row_avx2(std::int64_t i, const Fields& x, const RowArrays& r, const
   for (int a = 0; a < Dim; ++a) sums[a] = acc[a];
   if (end > blocks_end)
     broken += tail_avx2<Dim, Fracture, Energy>(i, blocks_end, static_cast<int>(end - blocks_end),
-                                               yi, x, r, w, sums, energy_sums);
+                                               yi, x, r, w, sums, energy_sums, seen);
   alignas(32) double lanes[Dim][4], energy_lanes[4];
   for (int a = 0; a < Dim; ++a) _mm256_store_pd(lanes[a], sums[a]);
   _mm256_store_pd(energy_lanes, energy_sums);
   write_force<Dim, Energy>(i, x, lanes, energy_lanes);
+  if (watching) w.watch.hit[i] = seen ? 1 : 0;
   return broken;
 }
 template <int Dim>

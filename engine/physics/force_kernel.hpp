@@ -41,10 +41,20 @@ struct RowArrays {
   double inverse_length(std::int64_t k) const { return inverse_lengths[length_index[k]]; }
 };
 
+/// The stretch watch fused into the break test (docs/theory.md §13.1): with `hit` set, each row i
+/// of a pass writes hit[i] = 1 when one of its own bonds, still intact after the row's breaks, has
+/// a squared stretch ratio ≥ limit_ratio2[i], else 0. (The fast test of a block is against the
+/// lower of this limit and the row's break_ratio2, which its dual entries may set below it.)
+struct StretchWatch {
+  const double* limit_ratio2 = nullptr;
+  std::uint8_t* hit = nullptr;
+};
+
 /// What the fused break test needs on its slow path (unused by the elastic kernel).
 struct Breaking {
   BondRows* rows = nullptr;
   const BondConstants* constants = nullptr;
+  StretchWatch watch{};
 };
 
 /// Positions read and force densities written (the first Dim axes); the kernels with Energy also

@@ -14,6 +14,7 @@
 #include <cstring>
 
 #include "engine/base/parallel.hpp"
+#include "engine/physics/bond_law.hpp"
 #include "engine/physics/force_kernel.hpp"
 #include "tests/support/bonds.hpp"
 #include "tests/support/engine.hpp"
@@ -45,6 +46,27 @@ Stretched stretched_cloud(int dim, std::uint64_t seed, ForceModel model = ForceM
   }
   s.a.refresh(s.p);
   return s;
+}
+
+/// Every row of `s` through the kernel of `build`, in index order; the own bonds broken.
+std::int64_t every_row(Stretched& s, int dim, kernel::Build build, bool fracture,
+                       const kernel::StretchWatch& watch = {}) {
+  const auto in = s.constants();
+  std::vector<double> points;
+  kernel::pack_points(s.p, points);
+  const kernel::Fields x{
+      {s.p.position[0].data(), s.p.position[1].data(), s.p.position[2].data()},
+      {s.p.force_density[0].data(), s.p.force_density[1].data(), s.p.force_density[2].data()},
+      nullptr,
+      points.data()};
+  const kernel::RowArrays r(s.a.bonds, s.p);
+  const kernel::Breaking w{&s.a.bonds, &in, watch};
+  const auto row = with_dim(dim, [&](auto d) {
+    return fracture ? kernel::row_kernel<d(), true>(build) : kernel::row_kernel<d(), false>(build);
+  });
+  std::int64_t broken = 0;
+  for (std::size_t i = 0; i < s.p.size(); ++i) broken += row(static_cast<std::int64_t>(i), x, r, w);
+  return broken;
 }
 
 class ForceKernel : public ::testing::TestWithParam<int> {};
@@ -191,23 +213,8 @@ TEST_P(ForceKernel, PlainAndAvx2BuildsGiveTheSameBits) {
     std::int64_t broken[2] = {0, 0};
     for (const auto build : {kernel::Build::Plain, kernel::Build::Avx2}) {
       auto s = stretched_cloud(dim, 9);
-      const auto in = s.constants();
-      std::vector<double> points;
-      kernel::pack_points(s.p, points);
-      const kernel::Fields x{
-          {s.p.position[0].data(), s.p.position[1].data(), s.p.position[2].data()},
-          {s.p.force_density[0].data(), s.p.force_density[1].data(), s.p.force_density[2].data()},
-          nullptr,
-          points.data()};
-      const kernel::RowArrays r(s.a.bonds, s.p);
-      const kernel::Breaking w{&s.a.bonds, &in};
-      const auto row = with_dim(dim, [&](auto d) {
-        return fracture ? kernel::row_kernel<d(), true>(build)
-                        : kernel::row_kernel<d(), false>(build);
-      });
       const int b = build == kernel::Build::Avx2;
-      for (std::size_t i = 0; i < s.p.size(); ++i)
-        broken[b] += row(static_cast<std::int64_t>(i), x, r, w);
+      broken[b] = every_row(s, dim, build, fracture);
       for (int d = 0; d < 3; ++d) force[b][d] = s.p.force_density[d];
       intact[b] = s.a.bonds.flags;
     }
@@ -280,6 +287,47 @@ TEST_P(ForceKernel, FusedRowEnergyEqualsTheEnergyAfterThePass) {
     force_and_break(again.a.bonds, again.p, again.constants(), &sums);
     EXPECT_EQ(strain_energy_of_row_sums(sums, again.p),
               strain_energy_total(again.a.bonds, again.p));
+  }
+}
+
+// The stretch watch (docs/theory.md §13.1) flags exactly the rows a scan after the pass finds: an
+// own bond still intact with (|y|/|ξ|)² at or above the row's limit, for limits below and above
+// the row's break limit alike; forces, breaks and bond flags are the pass's without the watch.
+TEST_P(ForceKernel, StretchWatchFlagsWhatAScanAfterThePassFinds) {
+  const int dim = GetParam();
+  std::vector<kernel::Build> builds{kernel::Build::Plain};
+  if (kernel::avx2_available()) builds.push_back(kernel::Build::Avx2);
+  const auto pass = [&](Stretched& s, kernel::Build build, const kernel::StretchWatch& watch) {
+    return every_row(s, dim, build, true, watch);
+  };
+  for (const auto build : builds) {
+    auto watched = stretched_cloud(dim, 17), plain = watched;
+    const std::size_t n = watched.p.size();
+    std::vector<double> limit(n);
+    for (std::size_t i = 0; i < n; ++i)  // 0.3 to 1.3 s0: some rows watch beyond their breaks
+      limit[i] =
+          bond_law::critical_ratio2((0.3 + 0.2 * static_cast<double>(i % 6)) * watched.a.s0[i]);
+    std::vector<std::uint8_t> hit(n, 2);
+    const auto broken = pass(watched, build, {limit.data(), hit.data()});
+    EXPECT_EQ(broken, pass(plain, build, {}));
+    EXPECT_GT(broken, 0);
+    EXPECT_EQ(watched.a.bonds.flags, plain.a.bonds.flags);
+    for (int d = 0; d < dim; ++d)
+      EXPECT_EQ(0, std::memcmp(watched.p.force_density[d].data(), plain.p.force_density[d].data(),
+                               n * sizeof(double)));
+    const auto& b = watched.a.bonds;
+    std::vector<std::uint8_t> scan(n, 0);
+    for (std::size_t i = 0; i < n; ++i)
+      for (auto k = b.begin(i); k < b.end(i); ++k) {
+        const auto j = static_cast<std::size_t>(b.other[k]);
+        const double ratio2 = bond_law::stretch_ratio2(bond_law::squared_length(watched.p, i, j),
+                                                       b.inverse_length(k));
+        if (b.own_intact(k) && ratio2 >= limit[i]) scan[i] = 1;
+      }
+    EXPECT_EQ(hit, scan) << (build == kernel::Build::Avx2 ? "AVX2" : "plain");
+    const auto flagged = std::count(scan.begin(), scan.end(), 1);
+    EXPECT_GT(flagged, 0);
+    EXPECT_LT(static_cast<std::size_t>(flagged), n);
   }
 }
 
