@@ -27,6 +27,15 @@ void each_row(std::size_t n, const std::vector<std::int32_t>* rows, F&& f) {
 
 /// Damage of particle i (docs/theory.md §8): the weighted broken fraction of its own bonds.
 void damage_of(const BondRows& b, ParticleStore& p, PartialVolume rule, std::size_t i) {
+  // Every own bond intact: the two sums below take the same terms in the same order, so φ is 0
+  // exactly, without the weights.
+  bool broken = false;
+  for (auto k = b.begin(i); k < b.end(i); ++k)
+    broken = broken || (b.flags[k] & (kOwn | kOwnIntact)) == kOwn;
+  if (!broken) {
+    p.damage[i] = 0.0;
+    return;
+  }
   double all = 0.0, intact = 0.0;
   for_each_own_bond(b, i, [&](std::int64_t k, std::size_t j) {
     const double w = bond_weight(p, rule, i, j, b.length(k)) * p.volume[j];
