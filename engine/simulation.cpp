@@ -224,7 +224,7 @@ void Simulation::step(StepExtras extras) {
   }
   watch_.current = false;
   const double body_work = levels_ ? multirate_step(extras, evaluated) : verlet_step(extras);
-  if (watching_stretch() && setup_.effects.fracture && !state_based() && !share_) {
+  if (stretch_watched() && setup_.effects.fracture && !state_based() && !share_) {
     if (levels_) merge_level_watch();
     watch_.current = true;
   }

@@ -125,15 +125,19 @@ class Simulation {
 
   /// The stretch watch (docs/theory.md §13.1): from the next step on, the steps' force passes flag
   /// each row with an own bond, intact after the pass's breaks, whose squared stretch ratio reached
-  /// limit_ratio2[i] (one per particle). Any change of the
-  /// discretisation (an edit, a renumbering) or a loaded state drops it.
-  void watch_stretch(std::vector<double> limit_ratio2);
-  bool watching_stretch() const { return !watch_.limit.empty(); }
-  /// Per particle, 1 where the last step's force passes saw such a bond; null when they are not
-  /// of the current state (no step since the watch was set or the state loaded) or the passes do
-  /// not watch (fracture off, statics, the state-based families, a distributed run).
-  const std::vector<std::uint8_t>* stretch_watch_hits() const {
-    return watch_.current ? &watch_.hit : nullptr;
+  /// limit_ratio2[i] (one per particle). `key` names the rule the limits come from (a watcher
+  /// reads only hits of its own rule). Any change of the discretisation (an edit, a renumbering)
+  /// or a loaded state drops it.
+  void watch_stretch(std::vector<double> limit_ratio2, std::uint64_t key);
+  bool watching_stretch(std::uint64_t key) const {
+    return !watch_.limit.empty() && watch_.key == key;
+  }
+  /// Per particle, 1 where the last step's force passes saw such a bond under the limits of
+  /// `key`; null when they are not of the current state (no step since the watch was set or the
+  /// state loaded), of another key, or the passes do not watch (fracture off, statics, the
+  /// state-based families, a distributed run).
+  const std::vector<std::uint8_t>* stretch_watch_hits(std::uint64_t key) const {
+    return watch_.current && watch_.key == key ? &watch_.hit : nullptr;
   }
 
   /// Energies and momentum of the current state (deterministic sums).
@@ -436,6 +440,7 @@ class Simulation {
   struct WatchState {
     std::vector<double> limit;
     std::vector<std::uint8_t> hit, level_hit;
+    std::uint64_t key = 0;
     bool current = false;
   };
   WatchState watch_;
@@ -444,6 +449,7 @@ class Simulation {
   /// The same for a pass over time level `level`'s segments (its own hits, merged after the step).
   kernel::StretchWatch level_stretch_watch(int level);
   void merge_level_watch();
+  bool stretch_watched() const { return !watch_.limit.empty(); }
   void drop_stretch_watch() { watch_ = {}; }
   /// The strain energy a step's force pass computed, valid while steps_, generation_ and
   /// layout_version_ are still those it was computed at (not part of the state).

@@ -7,23 +7,24 @@
 
 namespace dhpd {
 
-void Simulation::watch_stretch(std::vector<double> limit_ratio2) {
+void Simulation::watch_stretch(std::vector<double> limit_ratio2, std::uint64_t key) {
   if (limit_ratio2.size() != p_.size())
     throw EngineError("watch_stretch: one limit per particle is needed");
   watch_.limit = std::move(limit_ratio2);
+  watch_.key = key;
   watch_.hit.assign(p_.size(), 0);
   watch_.level_hit.clear();
   watch_.current = false;
 }
 
 kernel::StretchWatch Simulation::stretch_watch_into(std::vector<std::uint8_t>& hits) {
-  if (!watching_stretch() || watch_.limit.size() != p_.size()) return {};
+  if (!stretch_watched() || watch_.limit.size() != p_.size()) return {};
   hits.resize(p_.size(), 0);
   return {watch_.limit.data(), hits.data()};
 }
 
 kernel::StretchWatch Simulation::level_stretch_watch(int level) {
-  if (!watching_stretch() || watch_.limit.size() != p_.size()) return {};
+  if (!stretch_watched() || watch_.limit.size() != p_.size()) return {};
   const auto n = p_.size();
   watch_.level_hit.resize(n * static_cast<std::size_t>(levels_->count()), 0);
   return {watch_.limit.data(), watch_.level_hit.data() + n * static_cast<std::size_t>(level)};

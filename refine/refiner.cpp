@@ -2,6 +2,7 @@
 #include "refine/refiner.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <memory>
 
@@ -124,15 +125,22 @@ void Refiner::mark_settled_current(const Simulation& sim) {
   settled_particles_ = sim.particles().size();
 }
 
+std::uint64_t Refiner::watch_key() const {
+  // The limits depend on the threshold and max_level alone (stretch_limits): refiners that share
+  // them share the watch.
+  return std::bit_cast<std::uint64_t>(*s_.trigger.stretch) ^
+         (static_cast<std::uint64_t>(s_.max_level) << 56);
+}
+
 const std::vector<std::uint8_t>* Refiner::stretch_hits(const Simulation& sim) const {
-  return s_.trigger.stretch ? sim.stretch_watch_hits() : nullptr;
+  return s_.trigger.stretch ? sim.stretch_watch_hits(watch_key()) : nullptr;
 }
 
 void Refiner::watch_stretch(Simulation& sim) const {
   // Set once per discretisation (the stepper drops it at every change): the steps from here on
   // flag what the next checks would find (docs/theory.md §13.1).
-  if (s_.trigger.stretch && !sim.watching_stretch())
-    sim.watch_stretch(stretch_limits(sim, *s_.trigger.stretch, s_.max_level));
+  if (s_.trigger.stretch && !sim.watching_stretch(watch_key()))
+    sim.watch_stretch(stretch_limits(sim, *s_.trigger.stretch, s_.max_level), watch_key());
 }
 
 RefinementEvent Refiner::check(Simulation& sim) {

@@ -92,6 +92,8 @@ class Refiner {
   /// up to date in (a guard's rollback, or another simulation, starts them afresh).
   bool settled_current(const Simulation& sim) const;
   void mark_settled_current(const Simulation& sim);
+  /// The key of this refiner's stretch limits (Simulation::watch_stretch).
+  std::uint64_t watch_key() const;
   /// The stepper's stretch hits when the trigger has a stretch threshold and they are current.
   const std::vector<std::uint8_t>* stretch_hits(const Simulation& sim) const;
   /// Gives the stepper the stretch trigger's limits when it holds none.

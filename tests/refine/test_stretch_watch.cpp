@@ -20,13 +20,15 @@ TEST(StretchWatch, TriggersReadFromTheStepsGiveTheScansVerdicts) {
     Simulation sim(s);
     refine::Triggers t;
     t.stretch = 0.6;
-    sim.watch_stretch(refine::stretch_limits(sim, *t.stretch, 1));
-    EXPECT_EQ(sim.stretch_watch_hits(), nullptr);  // no step has watched yet
+    const std::uint64_t key = 7;
+    sim.watch_stretch(refine::stretch_limits(sim, *t.stretch, 1), key);
+    EXPECT_EQ(sim.stretch_watch_hits(key), nullptr);  // no step has watched yet
     std::int64_t flagged = 0;
     for (int step = 0; step < 150; ++step) {
       sim.step();
-      ASSERT_NE(sim.stretch_watch_hits(), nullptr);
-      const auto with = refine::triggered(sim, t, {1, nullptr, sim.stretch_watch_hits()});
+      ASSERT_NE(sim.stretch_watch_hits(key), nullptr);
+      EXPECT_EQ(sim.stretch_watch_hits(key + 1), nullptr);  // another rule's limits
+      const auto with = refine::triggered(sim, t, {1, nullptr, sim.stretch_watch_hits(key)});
       const auto scan = refine::triggered(sim, t, {1, nullptr, nullptr});
       ASSERT_EQ(with, scan) << "step " << step << (multirate ? " with time levels" : "");
       flagged += std::count(with.begin(), with.end(), 1);
@@ -35,8 +37,8 @@ TEST(StretchWatch, TriggersReadFromTheStepsGiveTheScansVerdicts) {
     EXPECT_GT(sim.broken_bonds(), 0);
     EXPECT_EQ(sim.time_levels() != nullptr, multirate);
     sim.compact();  // renumbered: the limits were by index
-    EXPECT_FALSE(sim.watching_stretch());
-    EXPECT_EQ(sim.stretch_watch_hits(), nullptr);
+    EXPECT_FALSE(sim.watching_stretch(key));
+    EXPECT_EQ(sim.stretch_watch_hits(key), nullptr);
   }
 }
 
