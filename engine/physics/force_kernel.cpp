@@ -33,18 +33,17 @@ inline double coefficient_of(const RowArrays& r, std::int64_t k, std::int32_t j)
   return static_cast<double>(r.stiffness[k]) * r.scale * r.volume[j];
 }
 
-/// One entry in plain arithmetic: the same operations as a lane of the AVX2 build. With Energy,
-/// the entry's c s² |ξ| (after its break test) is added to `energy`.
 /// Whether one of the `n` entries from k, with squared ratios ratio2, is an own bond still intact
-/// at or beyond row i's watch limit (StretchWatch). Out of line: only stretched rows get here.
-[[gnu::noinline, gnu::cold]] bool watched(std::int64_t i, std::int64_t k, int n,
-                                          const double ratio2[], const RowArrays& r,
-                                          const Breaking& w) {
+/// (after the row's breaks) at or beyond row i's watch limit (StretchWatch).
+inline bool watched(std::int64_t i, std::int64_t k, int n, const double ratio2[],
+                    const RowArrays& r, const Breaking& w) {
   for (int t = 0; t < n; ++t)
     if (ratio2[t] >= w.watch.limit_ratio2[i] && (r.flags[k + t] & kOwnIntact)) return true;
   return false;
 }
 
+/// One entry in plain arithmetic: the same operations as a lane of the AVX2 build. With Energy,
+/// the entry's c s² |ξ| (after its break test) is added to `energy`.
 template <int Dim, bool Fracture, bool Energy>
 inline int entry(std::int64_t i, std::int64_t k, const double yi[Dim], const Fields& x,
                  const RowArrays& r, const Breaking& w, double lane[Dim], double& energy,
