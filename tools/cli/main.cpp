@@ -69,8 +69,8 @@ int threads_per_rank(int threads) {
 /// Keeps freed memory in the process (glibc): refinement events and renumberings free and
 /// allocate arrays of megabytes many times a run, and by default each such array is mapped fresh
 /// and its pages faulted in again. Blocks up to 32 MB come from the heap and up to 256 MB of free
-/// heap stay: Kalthoff–Winkler 2D adaptive runs 8 % faster (paired runs, 1.432 against 1.568 s)
-/// for 2 MB more peak memory (docs/verification.md).
+/// heap stay: Kalthoff–Winkler 2D adaptive runs 7 % faster (paired runs, 1.470 against 1.610 s,
+/// the same bits) for about 3 MB more peak memory (docs/verification.md).
 void keep_freed_memory() {
 #if defined(__GLIBC__)
   mallopt(M_MMAP_THRESHOLD, 32 << 20);
