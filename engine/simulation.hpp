@@ -450,6 +450,8 @@ class Simulation {
   kernel::StretchWatch level_stretch_watch(int level);
   void merge_level_watch();
   bool stretch_watched() const { return !watch_.limit.empty(); }
+  /// Limits held, one per current particle (an open edit may have appended particles).
+  bool watch_fits() const { return stretch_watched() && watch_.limit.size() == p_.size(); }
   void drop_stretch_watch() { watch_ = {}; }
   /// The strain energy a step's force pass computed, valid while steps_, generation_ and
   /// layout_version_ are still those it was computed at (not part of the state).

@@ -18,13 +18,13 @@ void Simulation::watch_stretch(std::vector<double> limit_ratio2, std::uint64_t k
 }
 
 kernel::StretchWatch Simulation::stretch_watch_into(std::vector<std::uint8_t>& hits) {
-  if (!stretch_watched() || watch_.limit.size() != p_.size()) return {};
+  if (!watch_fits()) return {};
   hits.resize(p_.size(), 0);
   return {watch_.limit.data(), hits.data()};
 }
 
 kernel::StretchWatch Simulation::level_stretch_watch(int level) {
-  if (!stretch_watched() || watch_.limit.size() != p_.size()) return {};
+  if (!watch_fits()) return {};
   const auto n = p_.size();
   watch_.level_hit.resize(n * static_cast<std::size_t>(levels_->count()), 0);
   return {watch_.limit.data(), watch_.level_hit.data() + n * static_cast<std::size_t>(level)};

@@ -29,10 +29,9 @@ void each_row(std::size_t n, const std::vector<std::int32_t>* rows, F&& f) {
 void damage_of(const BondRows& b, ParticleStore& p, PartialVolume rule, std::size_t i) {
   // Every own bond intact: the two sums below take the same terms in the same order, so φ is 0
   // exactly, without the weights.
-  bool broken = false;
-  for (auto k = b.begin(i); k < b.end(i); ++k)
-    broken = broken || (b.flags[k] & (kOwn | kOwnIntact)) == kOwn;
-  if (!broken) {
+  auto k = b.begin(i);
+  while (k < b.end(i) && (b.flags[k] & (kOwn | kOwnIntact)) != kOwn) ++k;
+  if (k == b.end(i)) {
     p.damage[i] = 0.0;
     return;
   }
