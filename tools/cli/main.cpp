@@ -3,9 +3,6 @@
 // line), 3 unstable run, 4 stopped at the memory budget, 5 an output could not be written (disk
 // full, read-only folder), 130 / 143 interrupted by SIGINT / SIGTERM (after a checkpoint).
 #include <fmt/core.h>
-#if defined(__GLIBC__)
-#include <malloc.h>
-#endif
 #include <omp.h>
 #include <CLI/CLI.hpp>
 #include <cstdio>
@@ -66,24 +63,12 @@ int threads_per_rank(int threads) {
   return std::max(1, static_cast<int>(std::thread::hardware_concurrency()) / ranks);
 }
 
-/// Keeps freed memory in the process (glibc): refinement events and renumberings free and
-/// allocate arrays of megabytes many times a run, and by default each such array is mapped fresh
-/// and its pages faulted in again. Blocks up to 32 MB come from the heap and up to 256 MB of free
-/// heap stay: Kalthoff–Winkler 2D adaptive runs 7 % faster (paired runs, 1.470 against 1.610 s,
-/// the same bits) for about 3 MB more peak memory (docs/verification.md).
-void keep_freed_memory() {
-#if defined(__GLIBC__)
-  mallopt(M_MMAP_THRESHOLD, 32 << 20);
-  mallopt(M_TRIM_THRESHOLD, 256 << 20);
-#endif
-}
 
 }  // namespace
 
 int main(int argc, char** argv) {
   // Line-buffered even when stdout is a file or a pipe: a redirected or killed run keeps its log.
   std::setvbuf(stdout, nullptr, _IOLBF, 0);
-  keep_freed_memory();
   // Under mpirun every rank runs this program (docs/theory.md §25); otherwise MPI is never touched.
   std::optional<dhpd::distributed::MpiSession> mpi;
   if (dhpd::distributed::MpiSession::launched_by_mpirun()) mpi.emplace(argc, argv);
