@@ -63,7 +63,6 @@ int threads_per_rank(int threads) {
   return std::max(1, static_cast<int>(std::thread::hardware_concurrency()) / ranks);
 }
 
-
 }  // namespace
 
 int main(int argc, char** argv) {
