@@ -279,6 +279,14 @@ class Simulation {
   /// compact() without its energy ledger: renumbers (by time level, then Morton order), rebuilds
   /// the rows and plans the levels.
   void renumber();
+  /// Puts the particles in the blocks of `level` (per slot) by moving as few as possible
+  /// (fewest_moves_by_level): rows renumbered in place, the moved and re-sorted rows' sums derived
+  /// again, the levels planned (docs/theory.md §19.3).
+  void regroup_by_level(const std::vector<std::int8_t>& level);
+  /// What renumber and regroup_by_level renumber alike: per-particle data outside the store and
+  /// the rows (interaction scales, loads, scratch flags, the ranks' owners).
+  void renumber_per_particle(const std::vector<std::int32_t>& order,
+                             const std::vector<std::int32_t>& new_index);
   void update_bond_constants();
   void update_bond_constants(const std::vector<std::int32_t>& slots);
   /// The ordinary state-based constants of the current rows (family OrdinaryState only).
@@ -368,8 +376,8 @@ class Simulation {
   /// The end of a step: work ledger, the guard's kinetic check, clocks.
   void finish_step(double body_work);
   /// Chooses the time levels of the current slots: the plans when more than one level is needed
-  /// (the slots must be sorted by level), none otherwise.
-  void plan_levels();
+  /// (the slots must be sorted by level), none otherwise; `chosen`: the choice of this very state.
+  void plan_levels(std::optional<LevelChoice> chosen = std::nullopt);
   /// The sub-step of level l (dt₀/2^l) and, recursively, those of the finer levels.
   void level_substep(int l, const SideTask* side);
   void level_kick(int l);

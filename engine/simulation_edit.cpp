@@ -16,6 +16,14 @@ namespace {
 double seconds_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
+
+/// new_index[order[k]] = k.
+std::vector<std::int32_t> inverse_order(const std::vector<std::int32_t>& order) {
+  std::vector<std::int32_t> new_index(order.size());
+  for (std::size_t k = 0; k < order.size(); ++k)
+    new_index[static_cast<std::size_t>(order[k])] = static_cast<std::int32_t>(k);
+  return new_index;
+}
 }  // namespace
 
 bool Simulation::corrects_interfaces() const {
@@ -139,7 +147,6 @@ double Simulation::compact() {
 
 void Simulation::renumber() {
   auto t = timers_.scope(Phase::Refine);
-  drop_stretch_watch();  // its limits are by index
   const std::size_t n = p_.size();
   std::vector<geometry::Vec3> where(n);
   for (std::size_t i = 0; i < n; ++i) where[i] = point_of(p_.reference_position, i);
@@ -148,11 +155,48 @@ void Simulation::renumber() {
     const auto choice = choose_levels();
     if (choice.count > 1) order = order_by_level(order, choice.level);
   }
-  std::vector<std::int32_t> new_index(n);
-  for (std::size_t k = 0; k < n; ++k) new_index[static_cast<std::size_t>(order[k])] = k;
+  const auto new_index = inverse_order(order);
+  drop_stretch_watch();  // its limits are by index
   p_ = gather(p_, order);
   // Refinement moves the rows it rebuilds to the end of the arena: room for an eighth more.
   bonds_ = renumbered_rows(bonds_, order, new_index, setup_.effects.refinement ? 0.125 : 0.0);
+  renumber_per_particle(order, new_index);
+  update_bond_constants();
+  if (state_) build_state_model();
+  particle_time_steps(bonds_, p_, particle_dt_);
+  compute_forces();
+  if (setup_.effects.fracture) compute_damage(bonds_, p_, setup_.partial_volume);
+  plan_levels();
+  appended_since_compaction_ = 0;
+  ++layout_version_;
+}
+
+void Simulation::regroup_by_level(const std::vector<std::int8_t>& level) {
+  auto t = timers_.scope(Phase::Refine);
+  const auto order = fewest_moves_by_level(level);
+  std::vector<std::int32_t> moved;
+  for (std::size_t k = 0; k < order.size(); ++k)
+    if (order[k] != static_cast<std::int32_t>(k)) moved.push_back(static_cast<std::int32_t>(k));
+  const auto new_index = inverse_order(order);
+  drop_stretch_watch();  // its limits are by index
+  permute_slots(p_, order, moved);
+  const auto rows = renumber_rows_in_place(bonds_, order, new_index, moved);
+  renumber_per_particle(order, new_index);
+  for (auto* values : {&C_, &s0_, &particle_dt_}) move_slots(*values, order, moved);
+  if (state_) build_state_model();
+  // The re-sorted rows sum their entries in a new order: their bounds and damage again.
+  particle_time_steps(bonds_, p_, particle_dt_, &rows);
+  if (setup_.effects.fracture) compute_damage(bonds_, p_, setup_.partial_volume, &rows);
+  plan_levels();  // every level's forces at the current positions
+  if (!levels_) compute_forces();
+  // Out of Morton place, like appended particles: a compaction restores the order.
+  appended_since_compaction_ += moved.size();
+  ++layout_version_;
+}
+
+void Simulation::renumber_per_particle(const std::vector<std::int32_t>& order,
+                                       const std::vector<std::int32_t>& new_index) {
+  const std::size_t n = order.size();
   if (!interaction_scale_.empty()) {  // two per particle (multi-horizon; never edited today)
     std::vector<double> scale(interaction_scale_.size());
     for (std::size_t k = 0; k < n; ++k)
@@ -160,17 +204,9 @@ void Simulation::renumber() {
         scale[2 * k + side] = interaction_scale_[2 * static_cast<std::size_t>(order[k]) + side];
     interaction_scale_ = std::move(scale);
   }
-  update_bond_constants();
-  if (state_) build_state_model();
-  particle_time_steps(bonds_, p_, particle_dt_);
   renumber_loads(loads_, new_index);
   touched_.assign(n, 0);
   if (share_) share_->renumbered(order);
-  compute_forces();
-  if (setup_.effects.fracture) compute_damage(bonds_, p_, setup_.partial_volume);
-  plan_levels();
-  appended_since_compaction_ = 0;
-  ++layout_version_;
 }
 
 }  // namespace dhpd

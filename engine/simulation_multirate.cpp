@@ -29,10 +29,10 @@ LevelChoice Simulation::choose_levels() const {
                              setup_.max_time_levels, !setup_.multirate.has_value()});
 }
 
-void Simulation::plan_levels() {
+void Simulation::plan_levels(std::optional<LevelChoice> chosen) {
   levels_.reset();
   if (!multirate_enabled()) return;
-  auto choice = choose_levels();
+  auto choice = chosen ? std::move(*chosen) : choose_levels();
   if (choice.count == 1 || !std::is_sorted(choice.level.begin(), choice.level.end())) return;
   levels_ = plan_time_levels(bonds_, p_, std::move(choice));
   watch_.level_hit.clear();  // new segments: each level's hits start from 0
@@ -55,14 +55,14 @@ void Simulation::relevel() {
   // Plans that exist are current: commit_edit, the one place the discretisation changes, drops
   // them.
   if (!multirate_enabled() || levels_) return;
-  const auto choice = choose_levels();
+  auto choice = choose_levels();
   if (choice.count == 1) return;  // commit_edit left one global step
   // The shadow energy moves with the new steps and forces: the ledger takes it as a mapping.
   const double before = verlet_correction();
   if (std::is_sorted(choice.level.begin(), choice.level.end()))
-    plan_levels();
+    plan_levels(std::move(choice));  // the state it was chosen from
   else
-    renumber();  // by level, then plans
+    regroup_by_level(choice.level);  // then plans
   budget_.mapping -= verlet_correction() - before;
 }
 

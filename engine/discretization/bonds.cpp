@@ -126,15 +126,6 @@ void fit_to(std::vector<T>& v, std::size_t n, T fill) {
   v.resize(n, fill);
 }
 
-/// Capacity for `entries` entries in every entry array of `b`, the factor arrays when asked.
-void reserve_entries(BondRows& b, std::size_t entries, bool factors, bool dilatation) {
-  b.other.reserve(entries);
-  b.length_index.reserve(entries);
-  b.flags.reserve(entries);
-  b.stiffness.reserve(entries);
-  if (factors) b.factor.reserve(entries);
-  if (dilatation) b.dilatation_factor.reserve(entries);
-}
 }  // namespace
 
 void BondRows::fit_arena() {
@@ -291,48 +282,6 @@ BondRows build_bond_rows(const ParticleStore& p, PartialVolume pv,
       if (dual_only[static_cast<std::size_t>(i)] > 0)
         sort_row(b, static_cast<std::size_t>(i), order, o, len, fl);
   }
-  return b;
-}
-
-BondRows renumbered_rows(const BondRows& rows, const std::vector<std::int32_t>& order,
-                         const std::vector<std::int32_t>& new_index, double spare) {
-  const std::size_t n = order.size();
-  BondRows b;
-  std::vector<std::int32_t> counts(n);
-  for (std::size_t k = 0; k < n; ++k) counts[k] = rows.rows.count[order[k]];
-  b.rows = RowIndex::packed(counts);
-  const bool factors = !rows.factor.empty(), dilatation = !rows.dilatation_factor.empty();
-  const auto arena = static_cast<std::size_t>(b.rows.arena);
-  reserve_entries(b, arena + static_cast<std::size_t>(spare * static_cast<double>(arena)), factors,
-                  dilatation);
-  b.stiffness_scale = rows.stiffness_scale;
-  b.break_ratio2.resize(n);
-  b.live = b.rows.arena;
-  b.own_bonds = rows.own_bonds;
-  std::vector<std::pair<std::int32_t, std::int64_t>> row;
-  for (std::size_t k = 0; k < n; ++k) {
-    const auto i = static_cast<std::size_t>(order[k]);
-    b.break_ratio2[k] = rows.break_ratio2[i];
-    row.clear();
-    for (auto e = rows.begin(i); e < rows.end(i); ++e)
-      row.emplace_back(new_index[static_cast<std::size_t>(rows.other[e])], e);
-    // Neighbours keep most of their order under a renumbering (Morton order within levels): an
-    // insertion sort is about linear here (the new indices are distinct, so the order is unique).
-    for (std::size_t a = 1; a < row.size(); ++a)
-      for (std::size_t c = a; c > 0 && row[c].first < row[c - 1].first; --c)
-        std::swap(row[c], row[c - 1]);
-    // Packed rows follow each other: appending writes row k at its start, each entry once.
-    for (const auto& [j, e] : row) {
-      b.other.push_back(j);
-      b.length_index.push_back(rows.length_index[e]);
-      b.flags.push_back(rows.flags[e]);
-      b.stiffness.push_back(rows.stiffness[e]);
-      if (factors) b.factor.push_back(rows.factor[e]);
-      if (dilatation) b.dilatation_factor.push_back(rows.dilatation_factor[e]);
-    }
-  }
-  b.inverse_lengths = rows.inverse_lengths;
-  canonical_lengths(b.inverse_lengths, b.length_index, b.other);
   return b;
 }
 

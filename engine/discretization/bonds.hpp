@@ -121,6 +121,16 @@ BondRows build_bond_rows(const ParticleStore& particles, PartialVolume rule,
 BondRows renumbered_rows(const BondRows& rows, const std::vector<std::int32_t>& order,
                          const std::vector<std::int32_t>& new_index, double spare = 0.0);
 
+/// The rows after the particles are renumbered in place by `order` (order[k]: the particle that
+/// goes to slot k; new_index its inverse), where it moves only the slots `moved` (ascending;
+/// order[k] = k elsewhere): the moved rows keep their place in the arena, the rows naming a moved
+/// particle are re-sorted; nothing else is touched. Returns those rows (the moved ones and their
+/// partners, ascending), whose sums over entries are to be derived again.
+std::vector<std::int32_t> renumber_rows_in_place(BondRows& rows,
+                                                 const std::vector<std::int32_t>& order,
+                                                 const std::vector<std::int32_t>& new_index,
+                                                 const std::vector<std::int32_t>& moved);
+
 /// One own bond to write: neighbour and intact state.
 struct NewBond {
   std::int32_t neighbor;

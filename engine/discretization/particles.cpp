@@ -98,4 +98,19 @@ ParticleStore gather(ParticleStore& p, const std::vector<std::int32_t>& indices)
   return out;
 }
 
+void permute_slots(ParticleStore& p, const std::vector<std::int32_t>& order,
+                   const std::vector<std::int32_t>& moved) {
+  for (auto& field : p.fields())
+    std::visit(
+        [&](auto* data) {
+          using T = std::remove_pointer_t<decltype(data)>;
+          if constexpr (std::is_same_v<T, VectorArray>) {
+            for (int a = 0; a < 3; ++a) move_slots((*data)[a], order, moved);
+          } else {
+            move_slots(*data, order, moved);
+          }
+        },
+        field.data);
+}
+
 }  // namespace dhpd

@@ -73,4 +73,21 @@ class ParticleStore {
 /// The particles `indices` of `p` (in that order) as a store of their own, every field copied.
 ParticleStore gather(ParticleStore& p, const std::vector<std::int32_t>& indices);
 
+/// values[k] = values[order[k]] for the slots k of `moved` (order[k] = k elsewhere): what a
+/// renumbering that moves a few slots does to one per-slot array.
+template <class V>
+void move_slots(std::vector<V>& values, const std::vector<std::int32_t>& order,
+                const std::vector<std::int32_t>& moved) {
+  std::vector<V> from(moved.size());
+  for (std::size_t t = 0; t < moved.size(); ++t)
+    from[t] = values[static_cast<std::size_t>(order[static_cast<std::size_t>(moved[t])])];
+  for (std::size_t t = 0; t < moved.size(); ++t)
+    values[static_cast<std::size_t>(moved[t])] = from[t];
+}
+
+/// Renumbers `p` in place by `order` (order[k]: the particle that goes to slot k) where it moves
+/// only the slots `moved` (ascending; order[k] = k elsewhere): every field, those slots alone.
+void permute_slots(ParticleStore& p, const std::vector<std::int32_t>& order,
+                   const std::vector<std::int32_t>& moved);
+
 }  // namespace dhpd

@@ -121,6 +121,31 @@ std::vector<std::int32_t> order_by_level(const std::vector<std::int32_t>& morton
   return out;
 }
 
+std::vector<std::int32_t> fewest_moves_by_level(const std::vector<std::int8_t>& level) {
+  const std::size_t n = level.size();
+  int levels = 0;
+  for (const auto l : level) levels = std::max(levels, l + 1);
+  std::vector<std::size_t> first(static_cast<std::size_t>(levels) + 1, 0);
+  for (const auto l : level) ++first[static_cast<std::size_t>(l) + 1];
+  for (std::size_t l = 0; l < static_cast<std::size_t>(levels); ++l) first[l + 1] += first[l];
+  // holes[ℓ]: slots of block ℓ holding another level; movers[ℓ]: particles of ℓ outside it.
+  std::vector<std::vector<std::int32_t>> holes(first.size()), movers(first.size());
+  std::size_t block = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    while (k >= first[block + 1]) ++block;
+    const auto l = static_cast<std::size_t>(level[k]);
+    if (l == block) continue;
+    holes[block].push_back(static_cast<std::int32_t>(k));
+    movers[l].push_back(static_cast<std::int32_t>(k));
+  }
+  std::vector<std::int32_t> order(n);
+  for (std::size_t k = 0; k < n; ++k) order[k] = static_cast<std::int32_t>(k);
+  for (std::size_t l = 0; l < holes.size(); ++l)
+    for (std::size_t t = 0; t < holes[l].size(); ++t)
+      order[static_cast<std::size_t>(holes[l][t])] = movers[l][t];
+  return order;
+}
+
 std::size_t TimeLevels::bytes() const {
   std::size_t b = level.capacity() + first.capacity() * sizeof(std::int64_t);
   for (const auto& l : plans) {

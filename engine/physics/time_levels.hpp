@@ -49,6 +49,13 @@ LevelChoice choose_time_levels(const BondRows& rows, const ParticleStore& p, con
 std::vector<std::int32_t> order_by_level(const std::vector<std::int32_t>& morton,
                                          const std::vector<std::int8_t>& level);
 
+/// An order that sorts particles by level and moves as few as possible (order[k]: the particle
+/// that goes to slot k). Slot k stays where level[k] is the level of the block it falls in; the
+/// particles of level ℓ outside its block take the block's other slots, both in increasing index.
+/// A re-levelling after an event moves the particles that changed level and as many at the block
+/// edges, instead of renumbering the body (docs/theory.md §19.3).
+std::vector<std::int32_t> fewest_moves_by_level(const std::vector<std::int8_t>& level);
+
 /// One level's share of the bond rows and of the integration (particles sorted by level).
 struct LevelPlan {
   std::vector<std::int32_t> rows;   ///< rows with a non-empty segment at this level, ascending

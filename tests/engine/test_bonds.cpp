@@ -187,15 +187,7 @@ TEST(Bonds, RenumberedRowsKeepEveryBondUnderARandomPermutation) {
     auto& b = a.bonds;
     // State that must survive: some bonds broken (both sides), factors of level interfaces.
     std::mt19937 rng(4 + dim);
-    b.factor.assign(b.other.size(), 1.0f);
-    for (std::size_t i = 0; i < p.size(); ++i)
-      for_each_own_bond(b, i, [&](std::int64_t k, std::size_t j) {
-        b.factor[k] = 1.0f + 0.01f * static_cast<float>(rng() % 50);
-        if (rng() % 5) return;
-        b.flags[k] &= static_cast<std::uint8_t>(~kOwnIntact);
-        const auto m = b.find(j, static_cast<std::int32_t>(i));
-        b.flags[m] &= static_cast<std::uint8_t>(~kDualIntact);
-      });
+    test::break_some_and_scale(b, p.size(), rng);
     a.refresh(p);
     // Row 3 grows the way an event grows it: it moves to the end of the arena, leaving garbage.
     std::vector<NewBond> row3;

@@ -1,10 +1,13 @@
 // Multi-rate stepping through refinement events (docs/theory.md §19): the children take the fine
 // level at the event, the run is the same with 1 and 2 threads, and a restart from a checkpoint
-// continues it bit for bit (positions, velocities, bond states) with events on both sides.
+// continues it bit for bit (positions, velocities, bond states) with events on both sides; the
+// regrouping by level after an event leaves the state a renumbering of the whole body gives.
 #include <gtest/gtest.h>
 #include <omp.h>
 
+#include <cmath>
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <optional>
 
@@ -19,6 +22,29 @@ SimulationSetup multirate_plate(std::optional<bool> multirate = true) {
   auto s = test::pulled_plate();
   s.multirate = multirate;
   return s;
+}
+
+/// A 60 × 24 mm plate with a notch, pulled apart.
+SimulationSetup notched_plate(std::optional<bool> multirate) {
+  auto s = multirate_plate(multirate);
+  s.points = geometry::fill_lattice({{geometry::Box{{0, 0, 0}, {0.06, 0.024, 0}}, 5e-4, 0}}, 2);
+  s.cracks = {{{{0.0, 0.012, 0}, {0.012, 0.012, 0}}}};
+  test::pull_apart(s, BoundaryCondition::Kind::Traction,
+                   geometry::Box{{0, 0.0225, 0}, {0.06, 0.024, 0}},
+                   geometry::Box{{0, 0, 0}, {0.06, 0.0015, 0}}, 25e6);
+  return s;
+}
+
+/// The notched plate refined only ahead of its notch tip (a small patch).
+std::unique_ptr<test::AdaptiveRun> notch_patch_run(std::optional<bool> multirate) {
+  auto r = std::make_unique<test::AdaptiveRun>(notched_plate(multirate));
+  refine::Settings set;
+  set.trigger.damage = 0.02;
+  set.max_level = 1;
+  set.check_every = 5;
+  set.within = {geometry::Box{{0.009, 0.009, 0}, {0.03, 0.015, 0}}};
+  r->refiner.emplace(set);
+  return r;
 }
 
 void expect_same_state(const Simulation& a, const Simulation& b) {
@@ -78,26 +104,59 @@ TEST(MultiRateEvents, OneAndTwoThreadsGiveTheSameRun) {
   expect_same_state(one.sim, two.sim);
 }
 
+TEST(MultiRateEvents, RegroupingByLevelGivesTheStateOfAWholeRenumbering) {
+  // An event's re-levelling moves only the particles outside their level's block (docs/theory.md
+  // §19.3). The same state renumbered as a whole (compact: Morton order within levels, rows
+  // packed) must hold the same particles, levels, bonds and forces, particle by particle.
+  const auto patch = notch_patch_run(true);
+  auto& run = *patch;
+  bool regrouped = false;
+  while (!regrouped && run.sim.steps_done() < 400) {
+    const auto layout = run.sim.layout_version();
+    run.advance(1);
+    regrouped = run.sim.layout_version() != layout && run.sim.appended_since_compaction() > 0 &&
+                run.sim.time_levels() != nullptr;
+  }
+  ASSERT_TRUE(regrouped) << "no event re-levelled in place by step " << run.sim.steps_done() << " ("
+                         << run.events << " events)";
+  Simulation whole(notched_plate(true));
+  load_simulation(save_simulation(run.sim), whole, "test");
+  whole.compact();
+  const auto &a = run.sim.particles(), &b = whole.particles();
+  ASSERT_EQ(a.size(), b.size());
+  std::map<std::int32_t, std::size_t> slot_of_id;
+  for (std::size_t i = 0; i < b.size(); ++i) slot_of_id[b.id[i]] = i;
+  ASSERT_NE(whole.time_levels(), nullptr);
+  std::size_t moved_slot = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const auto j = slot_of_id.at(a.id[i]);
+    moved_slot += i != j ? 1 : 0;
+    EXPECT_EQ(run.sim.time_levels()->level[i], whole.time_levels()->level[j]) << a.id[i];
+    EXPECT_NEAR(a.damage[i], b.damage[j], 1e-14) << a.id[i];  // summed in another order
+    for (int axis = 0; axis < 2; ++axis) {
+      EXPECT_EQ(a.position[axis][i], b.position[axis][j]);
+      EXPECT_EQ(a.velocity[axis][i], b.velocity[axis][j]);
+      EXPECT_NEAR(a.force_density[axis][i], b.force_density[axis][j],
+                  1e-9 * (1.0 + std::abs(b.force_density[axis][j])))
+          << a.id[i];
+    }
+    // The same bonds in the same states, by the ids of their ends.
+    const auto &x = run.sim.bonds(), &y = whole.bonds();
+    ASSERT_EQ(x.end(i) - x.begin(i), y.end(j) - y.begin(j)) << a.id[i];
+    std::map<std::int32_t, std::uint8_t> flags;
+    for (auto k = y.begin(j); k < y.end(j); ++k)
+      flags[b.id[static_cast<std::size_t>(y.other[k])]] = y.flags[k];
+    for (auto k = x.begin(i); k < x.end(i); ++k)
+      EXPECT_EQ(x.flags[k], flags.at(a.id[static_cast<std::size_t>(x.other[k])])) << a.id[i];
+  }
+  EXPECT_GT(moved_slot, 0u) << "the whole renumbering puts particles elsewhere";
+}
+
 TEST(MultiRateEvents, ByDefaultASmallPatchTakesLevelsAndRestartsAreExact) {
   // time.multirate unset, a 60 × 24 mm plate refined only ahead of its notch tip: the small patch
   // pays for its levels, which the run takes; a restart from a checkpoint taken while levels are
   // used continues the run bit for bit (events on both sides of a checkpoint: the test above).
-  const auto run = [] {
-    auto s = multirate_plate(std::nullopt);
-    s.points = geometry::fill_lattice({{geometry::Box{{0, 0, 0}, {0.06, 0.024, 0}}, 5e-4, 0}}, 2);
-    s.cracks = {{{{0.0, 0.012, 0}, {0.012, 0.012, 0}}}};
-    test::pull_apart(s, BoundaryCondition::Kind::Traction,
-                     geometry::Box{{0, 0.0225, 0}, {0.06, 0.024, 0}},
-                     geometry::Box{{0, 0, 0}, {0.06, 0.0015, 0}}, 25e6);
-    auto r = std::make_unique<test::AdaptiveRun>(s);
-    refine::Settings set;
-    set.trigger.damage = 0.02;
-    set.max_level = 1;
-    set.check_every = 5;
-    set.within = {geometry::Box{{0.009, 0.009, 0}, {0.03, 0.015, 0}}};
-    r->refiner.emplace(set);
-    return r;
-  };
+  const auto run = [] { return notch_patch_run(std::nullopt); };
   const auto whole = run(), first = run(), second = run();
   std::int64_t levelled = 0;  // the first step with levels
   while (levelled == 0 && whole->sim.steps_done() < 300) {

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -67,6 +68,19 @@ inline void expect_consistent(const BondRows& b, std::size_t particles,
   for (std::size_t s = 0; s < b.other.size(); ++s)
     if (!live[s]) garbage_not_marked += b.other[s] != -1 || b.flags[s] != 0;
   EXPECT_EQ(garbage_not_marked, 0u) << what;
+}
+
+/// State a renumbering must carry: a factor on every own bond (as level interfaces get) and
+/// about one bond in five broken, on both sides of its pair.
+inline void break_some_and_scale(BondRows& b, std::size_t particles, std::mt19937& rng) {
+  b.factor.assign(b.other.size(), 1.0f);
+  for (std::size_t i = 0; i < particles; ++i)
+    for_each_own_bond(b, i, [&](std::int64_t k, std::size_t j) {
+      b.factor[k] = 1.0f + 0.01f * static_cast<float>(rng() % 50);
+      if (rng() % 5) return;
+      b.flags[k] &= static_cast<std::uint8_t>(~kOwnIntact);
+      b.flags[b.find(j, static_cast<std::int32_t>(i))] &= static_cast<std::uint8_t>(~kDualIntact);
+    });
 }
 
 }  // namespace dhpd::test
