@@ -19,8 +19,15 @@ std::vector<int> spacing_levels(const ParticleStore& p) {
   double widest = 0.0;
   for (std::size_t i = 0; i < p.size(); ++i) widest = std::max(widest, p.spacing[i]);
   std::vector<int> out(p.size(), 0);
-  for (std::size_t i = 0; i < p.size(); ++i)
-    out[i] = std::max(0, static_cast<int>(std::lround(std::log2(widest / p.spacing[i]))));
+  double last = -1.0;  // neighbouring slots mostly share a spacing: one logarithm for a run of them
+  int level = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (p.spacing[i] != last) {
+      last = p.spacing[i];
+      level = std::max(0, static_cast<int>(std::lround(std::log2(widest / last))));
+    }
+    out[i] = level;
+  }
   return out;
 }
 
@@ -41,14 +48,19 @@ std::vector<int> base_levels(const std::vector<int>& by_spacing, const std::vect
 }
 
 /// The buffer: each particle takes the finest base level among the particles it shares a bond
-/// with (a one-horizon buffer around each finer level).
+/// with (a one-horizon buffer around each finer level). Rows list their partners both ways, so
+/// each particle above the coarsest base level raises its partners: only the finer particles'
+/// rows are read.
 std::vector<int> buffered(const BondRows& rows, const std::vector<int>& base) {
-  std::vector<int> out(base.size());
-  for (std::size_t i = 0; i < base.size(); ++i) {
-    int l = base[i];
-    for (auto k = rows.begin(i); k < rows.end(i); ++k)
-      l = std::max(l, base[static_cast<std::size_t>(rows.other[k])]);
-    out[i] = l;
+  std::vector<int> out(base);
+  const int coarsest = base.empty() ? 0 : *std::min_element(base.begin(), base.end());
+  for (std::size_t j = 0; j < base.size(); ++j) {
+    const int l = base[j];
+    if (l == coarsest) continue;
+    for (auto k = rows.begin(j); k < rows.end(j); ++k) {
+      int& raised = out[static_cast<std::size_t>(rows.other[k])];
+      raised = std::max(raised, l);
+    }
   }
   return out;
 }
