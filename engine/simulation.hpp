@@ -174,6 +174,14 @@ class Simulation {
   double compact();
   /// Changes whenever slots are renumbered (compact): anything indexed by slot must be rebuilt.
   std::int64_t layout_version() const { return layout_version_; }
+  /// The slots the last regrouping by time level moved (docs/theory.md §19.3): slot moved[t] now
+  /// holds the particle that was at source[t], and `layout` is the layout_version it produced, so
+  /// that a structure indexed by slot at layout − 1 can follow instead of being rebuilt.
+  struct SlotMoves {
+    std::int64_t layout = -1;
+    std::vector<std::int32_t> moved, source;
+  };
+  const SlotMoves& last_slot_moves() const { return slot_moves_; }
   /// Particles appended by edits since the last compaction (or the start).
   std::size_t appended_since_compaction() const { return appended_since_compaction_; }
   /// Number of edits committed so far (0 for the scene's particles).
@@ -421,6 +429,7 @@ class Simulation {
   double max_horizon_ = 0.0;         ///< upper bound on every horizon
   std::size_t appended_since_compaction_ = 0;
   std::int64_t layout_version_ = 0;
+  SlotMoves slot_moves_;  ///< the last regroup_by_level's (not archived)
   // The open edit (begin_edit .. commit_edit); not part of the state between edits.
   struct OpenEdit {
     std::vector<std::int32_t> energy_rows;

@@ -192,6 +192,11 @@ void Simulation::regroup_by_level(const std::vector<std::int8_t>& level) {
   // Out of Morton place, like appended particles: a compaction restores the order.
   appended_since_compaction_ += moved.size();
   ++layout_version_;
+  slot_moves_.layout = layout_version_;
+  slot_moves_.source.resize(moved.size());
+  for (std::size_t t = 0; t < moved.size(); ++t)
+    slot_moves_.source[t] = order[static_cast<std::size_t>(moved[t])];
+  slot_moves_.moved = std::move(moved);
 }
 
 void Simulation::renumber_per_particle(const std::vector<std::int32_t>& order,

@@ -20,7 +20,12 @@ double seconds_since(std::chrono::steady_clock::time_point t) {
 SpatialGrid& EventSearch::grid(const Simulation& sim) {
   const bool current =
       grid_ && sim_ == &sim && generation_ == sim.generation() && layout_ == sim.layout_version();
-  if (!current) {
+  const auto& moves = sim.last_slot_moves();
+  if (!current && grid_ && sim_ == &sim && generation_ == sim.generation() &&
+      layout_ + 1 == sim.layout_version() && moves.layout == sim.layout_version()) {
+    grid_->move_slots(moves.moved, moves.source);  // a regrouping by level since: follow it
+    mark_current(sim);
+  } else if (!current) {
     const auto& p = sim.particles();
     double base = 0.0;
     for (std::size_t i = 0; i < p.size(); ++i) base = std::max(base, p.spacing[i]);

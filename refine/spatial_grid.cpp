@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <unordered_map>
+#include <utility>
 
 namespace dhpd::refine {
 
@@ -69,6 +71,31 @@ void SpatialGrid::remove(std::int32_t i) {
     if (block.empty()) l.blocks.erase(e.block);
   }
   e.level = kAbsent;
+}
+
+void SpatialGrid::move_slots(const std::vector<std::int32_t>& moved,
+                             const std::vector<std::int32_t>& source) {
+  std::vector<Entry> from(moved.size());
+  std::unordered_map<std::int32_t, std::int32_t> new_slot;
+  std::vector<std::pair<int, std::int64_t>> cells;  // (class, key) of every moved particle
+  for (std::size_t t = 0; t < moved.size(); ++t) {
+    const auto s = static_cast<std::size_t>(source[t]);
+    from[t] = s < where_.size() ? where_[s] : Entry{};
+    new_slot[source[t]] = moved[t];
+    if (from[t].level != kAbsent) cells.emplace_back(from[t].level, from[t].key);
+  }
+  std::sort(cells.begin(), cells.end());
+  cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+  for (const auto& [k, key] : cells)  // each cell once: every id in it renamed once
+    for (auto& id : levels_.at(k).cells.at(key)) {
+      const auto it = new_slot.find(id);
+      if (it != new_slot.end()) id = it->second;
+    }
+  for (std::size_t t = 0; t < moved.size(); ++t) {
+    const auto m = static_cast<std::size_t>(moved[t]);
+    if (where_.size() <= m) where_.resize(m + 1);
+    where_[m] = from[t];
+  }
 }
 
 void SpatialGrid::scan(const Level& l, std::int64_t key, const geometry::Vec3& x, double r2,

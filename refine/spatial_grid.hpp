@@ -25,6 +25,9 @@ class SpatialGrid {
   bool contains(std::int32_t i) const {
     return static_cast<std::size_t>(i) < where_.size() && where_[i].level != kAbsent;
   }
+  /// Follows a renumbering that moved a few slots: slot moved[t] now holds the particle that was
+  /// at source[t] (the same particles and positions; queries then answer as a new grid would).
+  void move_slots(const std::vector<std::int32_t>& moved, const std::vector<std::int32_t>& source);
   /// Every j ≠ skip with |X_j − x|² < radius² (the k-d tree's predicate), ascending, into `out`.
   void within(const geometry::Vec3& x, double radius, std::vector<std::int32_t>& out,
               std::int32_t skip = -1) const;

@@ -2,7 +2,8 @@
 // scan of what it holds: points of mixed spacings (one cell grid per spacing class), queries of any
 // radius anywhere, the predicate |X_j - x|² < r² (the k-d tree's), ascending order and the skipped
 // index; after removals, re-insertion of an index at a new position and with a new spacing, and
-// with points whose cell keys alias (21 bits per axis) and queries wider than the key range.
+// with points whose cell keys alias (21 bits per axis) and queries wider than the key range; and
+// after following a renumbering of a few slots (a regrouping by time level).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -146,6 +147,39 @@ TEST(SpatialGrid, RemovalsAndReinsertionAtANewPositionMatchBruteForce) {
     g.grid.within(far, 1e-9, found);
     EXPECT_EQ(found, (std::vector<std::int32_t>{n + 1}));
     EXPECT_EQ(found, g.model.within(far, 1e-9));
+  }
+}
+
+TEST(SpatialGrid, FollowingMovedSlotsAnswersAsTheRenumberedPoints) {
+  for (const int dim : {2, 3}) {
+    std::mt19937_64 rng(31 + dim);
+    const double base = dim == 2 ? 0.05 : 0.12;
+    Pair g(dim, base, 3.015);
+    const int n = 900;
+    for (std::int32_t i = 0; i < n; ++i)
+      g.insert(i, random_point(rng, dim, 0.0, 1.0), i % 3 == 0 ? base : base / 2);
+    g.remove(5);  // an absent slot may take part in a move
+    for (int round = 0; round < 3; ++round) {
+      // A permutation of a few slots, cycles included: slot moved[t] gets source[t]'s particle.
+      std::vector<std::int32_t> moved;
+      for (int k = 0; k < 40; ++k) moved.push_back(static_cast<std::int32_t>(rng() % n));
+      moved.push_back(5);
+      std::sort(moved.begin(), moved.end());
+      moved.erase(std::unique(moved.begin(), moved.end()), moved.end());
+      auto source = moved;
+      std::shuffle(source.begin(), source.end(), rng);
+      g.grid.move_slots(moved, source);
+      std::map<std::int32_t, Vec3> renumbered;
+      for (const auto& [i, x] : g.model.points) renumbered[i] = x;
+      for (std::size_t t = 0; t < moved.size(); ++t) {
+        renumbered.erase(moved[t]);
+        const auto from = g.model.points.find(source[t]);
+        if (from != g.model.points.end()) renumbered[moved[t]] = from->second;
+      }
+      g.model.points = renumbered;
+      for (const auto i : moved) EXPECT_EQ(g.grid.contains(i), g.model.points.count(i) == 1);
+      EXPECT_GT(expect_same_answers(g, rng, base, 400), 100u) << dim << " round " << round;
+    }
   }
 }
 
