@@ -430,6 +430,22 @@ class Simulation {
   std::size_t appended_since_compaction_ = 0;
   std::int64_t layout_version_ = 0;
   SlotMoves slot_moves_;  ///< the last regroup_by_level's (not archived)
+  /// The plans an edit dropped, kept until the levels are planned again so that the rows the edit
+  /// left alone keep their level forces (docs/theory.md §19.3). Valid at `generation` and
+  /// `layout` only; not archived.
+  struct FormerPlans {
+    TimeLevels levels;
+    /// Per slot: its level forces are evaluated again. A slot that a regrouping moved is among
+    /// them (its row and its partners' are re-sorted), so a kept row is in its former slot.
+    std::vector<std::uint8_t> recompute;
+    std::int64_t generation = -1, layout = -1;
+  };
+  std::optional<FormerPlans> former_;
+  /// The former plans when they describe the current slots (else none).
+  FormerPlans* current_former();
+  /// Every level's forces of the new plans; the rows whose segments and inputs are those of the
+  /// former plans copy their forces from them.
+  void plan_level_forces(FormerPlans* former);
   // The open edit (begin_edit .. commit_edit); not part of the state between edits.
   struct OpenEdit {
     std::vector<std::int32_t> energy_rows;

@@ -95,7 +95,10 @@ EditOutcome Simulation::commit_edit(const DiscretisationChange& change,
   // (A static run's dt is its load increment.)
   const bool keep_fixed = setup_.fixed_dt && *setup_.fixed_dt <= critical_dt_;
   if (!setup_.statics) dt_ = keep_fixed ? *setup_.fixed_dt : setup_.safety * critical_dt_;
-  levels_.reset();  // one global step at the finest particles' dt until relevel()
+  // One global step at the finest particles' dt until relevel(); the plans stay as former plans.
+  former_.reset();
+  if (levels_) former_ = FormerPlans{std::move(*levels_), {}, -1, -1};
+  levels_.reset();
   inherit_loads(loads_, change.successor, change.predecessor);
   enforce_prescribed_velocity();
   // State-based: θ couples each row to its partners, so every particle's force is new (and gets
@@ -118,6 +121,12 @@ EditOutcome Simulation::commit_edit(const DiscretisationChange& change,
     compute_damage(bonds_, p_, setup_.partial_volume, &change.rewritten_rows);
   appended_since_compaction_ += p_.size() - change.old_size;
   ++generation_;
+  if (former_) {  // the rows the edit rewrote (new particles among them) are evaluated again
+    former_->recompute.assign(p_.size(), 0);
+    for (const auto i : dirty) former_->recompute[static_cast<std::size_t>(i)] = 1;
+    former_->generation = generation_;
+    former_->layout = layout_version_;
+  }
   // The energy ledger: the named rows again, with the appended particles' rows after them.
   auto rows = std::move(edit_->energy_rows);
   for (const auto c : change.new_particles)
@@ -157,6 +166,7 @@ void Simulation::renumber() {
   }
   const auto new_index = inverse_order(order);
   drop_stretch_watch();  // its limits are by index
+  former_.reset();       // every row moves: every level force is evaluated again
   p_ = gather(p_, order);
   // Refinement moves the rows it rebuilds to the end of the arena: room for an eighth more.
   bonds_ = renumbered_rows(bonds_, order, new_index, setup_.effects.refinement ? 0.125 : 0.0);
@@ -181,6 +191,8 @@ void Simulation::regroup_by_level(const std::vector<std::int8_t>& level) {
   drop_stretch_watch();  // its limits are by index
   permute_slots(p_, order, moved);
   const auto rows = renumber_rows_in_place(bonds_, order, new_index, moved);
+  if (auto* former = current_former())  // moved and re-sorted rows: their forces anew
+    for (const auto i : rows) former->recompute[static_cast<std::size_t>(i)] = 1;
   renumber_per_particle(order, new_index);
   for (auto* values : {&C_, &s0_, &particle_dt_}) move_slots(*values, order, moved);
   if (state_) build_state_model();

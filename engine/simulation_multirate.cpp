@@ -39,9 +39,77 @@ void Simulation::plan_levels(std::optional<LevelChoice> chosen) {
   dt_ = levels_->dt0;
   kernel::pack_points(p_, kernel_points_.xyzv);
   kernel_points_.fresh = false;
-  for (int l = 0; l < levels_->count(); ++l) level_forces(l, false, nullptr);
+  plan_level_forces(current_former());
+  former_.reset();
   sum_level_forces();
   last_power_ = boundary_power();
+}
+
+Simulation::FormerPlans* Simulation::current_former() {
+  const bool current = former_ && former_->generation == generation_ &&
+                       former_->layout == layout_version_ && former_->recompute.size() == p_.size();
+  return current ? &*former_ : nullptr;
+}
+
+void Simulation::plan_level_forces(FormerPlans* former) {
+  if (!former) {
+    for (int l = 0; l < levels_->count(); ++l) level_forces(l, false, nullptr);
+    return;
+  }
+  // A row keeps its former level forces when the edit left it alone, it and every particle it
+  // shares a bond with keep their level (so its segments are the former ones) and it carries no
+  // body force: then a pass over it would give the same bits at the same positions.
+  auto& recompute = former->recompute;
+  const auto& before = former->levels;
+  for (std::size_t i = 0; i < p_.size(); ++i) {
+    if (i < before.level.size() && before.level[i] == levels_->level[i]) continue;
+    recompute[i] = 1;
+    for (auto k = bonds_.begin(i); k < bonds_.end(i); ++k)
+      recompute[static_cast<std::size_t>(bonds_.other[k])] = 1;
+  }
+  for (const auto i : loads_.loaded) recompute[static_cast<std::size_t>(i)] = 1;
+  auto t = timers_.scope(Phase::Forces);
+  for (int l = 0; l < levels_->count(); ++l) {
+    auto& plan = levels_->plans[static_cast<std::size_t>(l)];
+    const bool had_level = l < before.count();
+    level_rows_.clear();
+    for (const auto i : plan.rows) {
+      const auto u = static_cast<std::size_t>(i);
+      if (recompute[u] || !had_level) {
+        level_rows_.push_back(i);
+        continue;
+      }
+      const auto& kept = before.plans[static_cast<std::size_t>(l)].force;
+      for (int a = 0; a < p_.dim(); ++a) plan.force[a][u] = kept[a][u];
+    }
+    if (share_) {  // this rank's rows of those, then every rank gets them (§25.1)
+      std::vector<std::int32_t> owned;
+      share_->owned_of(level_rows_, owned);
+      segment_forces(bonds_, p_, nullptr, {owned, plan.start.data(), plan.count.data(), plan.force},
+                     kernel_points_.xyzv);
+      share_->share_rows(level_rows_, p_.dim(), plan.force, nullptr, 0);
+    } else {
+      segment_forces(bonds_, p_, nullptr,
+                     {level_rows_, plan.start.data(), plan.count.data(), plan.force},
+                     kernel_points_.xyzv);
+    }
+    std::int64_t evaluated = 0;  // the own bonds of the segments evaluated
+    for (const auto i : level_rows_) {
+      const auto u = static_cast<std::size_t>(i);
+      for (auto k = plan.start[u]; k < plan.start[u] + plan.count[u]; ++k)
+        evaluated += bonds_.has_own(k) ? 1 : 0;
+    }
+    level_evaluations_ += evaluated;
+    if (static_cast<std::size_t>(l) < level_counts_.evaluated.size())
+      level_counts_.evaluated[static_cast<std::size_t>(l)] += evaluated;
+    if (l != 0) continue;
+    // As level_forces: a loaded particle without level-0 pairs gets only its body forces.
+    for (const auto i : loads_.loaded)
+      if (plan.count[static_cast<std::size_t>(i)] == 0)
+        for (int a = 0; a < p_.dim(); ++a) plan.force[a][i] = 0.0;
+    for (std::size_t k = 0; k < loads_.loaded.size(); ++k)
+      for (int a = 0; a < p_.dim(); ++a) plan.force[a][loads_.loaded[k]] += loads_.body_force[k][a];
+  }
 }
 
 std::vector<std::int64_t> Simulation::particles_per_level() const {
@@ -56,7 +124,10 @@ void Simulation::relevel() {
   // them.
   if (!multirate_enabled() || levels_) return;
   auto choice = choose_levels();
-  if (choice.count == 1) return;  // commit_edit left one global step
+  if (choice.count == 1) {  // commit_edit left one global step
+    former_.reset();
+    return;
+  }
   // The shadow energy moves with the new steps and forces: the ledger takes it as a mapping.
   const double before = verlet_correction();
   if (std::is_sorted(choice.level.begin(), choice.level.end()))

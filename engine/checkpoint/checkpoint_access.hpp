@@ -129,6 +129,7 @@ struct CheckpointAccess {
   static void load_fields(Simulation& s, archive::Reader& ar, bool state_only = false) {
     s.drop_stretch_watch();  // the hits were of the positions overwritten here
     s.slot_moves_ = {};      // of the layout before: nothing indexed by slot follows them
+    s.former_.reset();       // plans of the state overwritten here
     std::int32_t dim = 0;
     ar(dim);
     if (dim != s.p_.dim())

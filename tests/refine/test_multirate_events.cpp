@@ -10,6 +10,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <vector>
 
 #include "engine/checkpoint/checkpoint.hpp"
 #include "tests/support/adaptive_run.hpp"
@@ -150,6 +151,42 @@ TEST(MultiRateEvents, RegroupingByLevelGivesTheStateOfAWholeRenumbering) {
       EXPECT_EQ(x.flags[k], flags.at(a.id[static_cast<std::size_t>(x.other[k])])) << a.id[i];
   }
   EXPECT_GT(moved_slot, 0u) << "the whole renumbering puts particles elsewhere";
+}
+
+TEST(MultiRateEvents, KeptLevelForcesEqualAFreshEvaluation) {
+  // After an event the rows it left alone keep their level forces (docs/theory.md §19.3); a copy
+  // of the state loaded from a checkpoint evaluates every level's forces anew. Bit for bit, for
+  // events that find levels in use: the pulled plate's and the notch patch's.
+  struct Case {
+    std::unique_ptr<test::AdaptiveRun> run;
+    SimulationSetup setup;
+  };
+  std::vector<Case> cases;
+  cases.push_back({std::make_unique<test::AdaptiveRun>(multirate_plate()), multirate_plate()});
+  cases.push_back({notch_patch_run(true), notched_plate(true)});
+  int compared = 0;
+  for (auto& c : cases) {
+    auto& run = *c.run;
+    while (run.sim.steps_done() < 300) {
+      const auto generation = run.sim.generation();
+      const bool levelled = run.sim.time_levels() != nullptr;
+      run.advance(1);
+      if (!levelled || run.sim.generation() == generation || !run.sim.time_levels()) continue;
+      Simulation fresh(c.setup);
+      load_simulation(save_simulation(run.sim), fresh, "test");
+      const auto &kept = *run.sim.time_levels(), &anew = *fresh.time_levels();
+      ASSERT_EQ(kept.count(), anew.count());
+      for (int l = 0; l < kept.count(); ++l)
+        for (int a = 0; a < 2; ++a)
+          EXPECT_EQ(kept.plans[static_cast<std::size_t>(l)].force[a],
+                    anew.plans[static_cast<std::size_t>(l)].force[a])
+              << "level " << l << " axis " << a << " at step " << run.sim.steps_done();
+      for (int a = 0; a < 2; ++a)
+        EXPECT_EQ(run.sim.particles().force_density[a], fresh.particles().force_density[a]);
+      ++compared;
+    }
+  }
+  EXPECT_GE(compared, 3) << "events that found time levels in use";
 }
 
 TEST(MultiRateEvents, ByDefaultASmallPatchTakesLevelsAndRestartsAreExact) {
