@@ -199,7 +199,7 @@ void Simulation::regroup_by_level(const std::vector<std::int8_t>& level) {
   // The re-sorted rows sum their entries in a new order: their bounds and damage again.
   particle_time_steps(bonds_, p_, particle_dt_, &rows);
   if (setup_.effects.fracture) compute_damage(bonds_, p_, setup_.partial_volume, &rows);
-  plan_levels();  // every level's forces at the current positions
+  plan_levels();  // every level's forces at the current positions (kept where they are)
   if (!levels_) compute_forces();
   // Out of Morton place, like appended particles: a compaction restores the order.
   appended_since_compaction_ += moved.size();

@@ -31,6 +31,9 @@ LevelChoice Simulation::choose_levels() const {
 
 void Simulation::plan_levels(std::optional<LevelChoice> chosen) {
   levels_.reset();
+  std::optional<FormerPlans> former;  // taken whatever happens: plans are made once from them
+  if (auto* current = current_former()) former = std::move(*current);
+  former_.reset();
   if (!multirate_enabled()) return;
   auto choice = chosen ? std::move(*chosen) : choose_levels();
   if (choice.count == 1 || !std::is_sorted(choice.level.begin(), choice.level.end())) return;
@@ -39,8 +42,7 @@ void Simulation::plan_levels(std::optional<LevelChoice> chosen) {
   dt_ = levels_->dt0;
   kernel::pack_points(p_, kernel_points_.xyzv);
   kernel_points_.fresh = false;
-  plan_level_forces(current_former());
-  former_.reset();
+  plan_level_forces(former ? &*former : nullptr);
   sum_level_forces();
   last_power_ = boundary_power();
 }
